@@ -1,0 +1,14 @@
+#pragma once
+// Each `vigs` subcommand registers itself on the CLI11 app. A subcommand's callback sets
+// the process exit code through the shared ExitCode it is given.
+#include <CLI/CLI.hpp>
+
+namespace vigs::apps {
+
+struct ExitCode {
+  int value = 0;
+};
+
+void add_config_command(CLI::App& app, ExitCode& exit_code);
+
+}  // namespace vigs::apps

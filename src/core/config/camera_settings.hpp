@@ -1,0 +1,44 @@
+#pragma once
+#include <string>
+
+#include "core/config/visitor.hpp"
+
+namespace vigs::config {
+
+/// RGB-D camera: pinhole intrinsics of the (depth-registered) colour image and the driver.
+/// Defaults are the uHumans2 office camera (720x480, 90 deg horizontal FOV, 20 Hz).
+struct CameraSettings {
+  std::string driver = "replay";  ///< openni2 | v4l2 | replay
+  std::string device;             ///< OpenNI2 URI or .oni path, /dev/videoN; empty = first found
+  int width_px = 720;
+  int height_px = 480;
+  double fx_px = 415.69219381653056;
+  double fy_px = 415.69219381653056;
+  double cx_px = 360.0;
+  double cy_px = 240.0;
+  double rate_hz = 20.0;
+  double depth_scale_m = 0.001;  ///< metres per raw depth unit of a 16-bit depth image
+  double min_depth_m = 0.1;
+  double max_depth_m = 10.0;
+
+  void visit(Visitor& v) {
+    v.field("driver", driver, {"openni2", "v4l2", "replay"}, "RGB-D source");
+    v.field("device", device, {}, "OpenNI2 URI or .oni file, or V4L2 device; empty = first found");
+    v.field("width_px", width_px, {"px", 16, 8192, "image width"});
+    v.field("height_px", height_px, {"px", 16, 8192, "image height"});
+    v.field("fx_px", fx_px, {"px", 1.0, 1e5, "focal length x"});
+    v.field("fy_px", fy_px, {"px", 1.0, 1e5, "focal length y"});
+    v.field("cx_px", cx_px, {"px", 0.0, 8192.0, "principal point x"});
+    v.field("cy_px", cy_px, {"px", 0.0, 8192.0, "principal point y"});
+    v.field("rate_hz", rate_hz, {"Hz", 1.0, 120.0, "frame rate; the tracker runs at this rate"});
+    v.field("depth_scale_m", depth_scale_m,
+            {"m", 1e-6, 1.0, "metres per raw unit of 16-bit depth (0.001 = millimetres)"});
+    v.field("min_depth_m", min_depth_m, {"m", 0.0, 100.0, "nearer depth is ignored"});
+    v.field("max_depth_m", max_depth_m, {"m", 0.1, 1000.0, "farther depth is ignored"});
+    v.require(cx_px < width_px && cy_px < height_px, "cx_px",
+              "principal point must lie inside the image");
+    v.require(min_depth_m < max_depth_m, "max_depth_m", "max_depth_m must exceed min_depth_m");
+  }
+};
+
+}  // namespace vigs::config

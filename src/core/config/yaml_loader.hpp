@@ -1,0 +1,18 @@
+#pragma once
+#include <string>
+#include <string_view>
+
+#include "core/config/robot_config.hpp"
+
+namespace vigs::config {
+
+/// Loads a robot configuration from YAML text. Keys absent from the file keep their
+/// declared defaults. Unknown keys, wrong types, out-of-range values and failed
+/// cross-field rules are all reported (file, line, column, key) in one ConfigError.
+/// `file_name` is only used in diagnostics.
+RobotConfig load_config_text(std::string_view yaml_text, const std::string& file_name);
+
+/// Reads `path` and loads it; an unreadable file is a ConfigError naming the path.
+RobotConfig load_config_file(const std::string& path);
+
+}  // namespace vigs::config
