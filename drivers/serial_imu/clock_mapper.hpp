@@ -12,7 +12,10 @@
 //    becomes one envelope point; an exponentially weighted least-squares line through those points
 //    gives the drift (clamped to +-max_drift_ppm). When the drift estimate changes, the offset is
 //    re-anchored so the mapping stays continuous at the current device time: stamps never jump.
-// The result tracks true sample time plus the (unobservable, constant) minimum latency.
+// The result tracks true sample time plus the (unobservable, constant) minimum latency. Limit: the
+// fitted drift lags a changing drift by about 16 s times its rate of change, and the offset
+// absorbs a lag up to offset_creep_ppm, so drift changes up to ~0.6 ppm/s are followed (crystal
+// warm-up is orders of magnitude slower).
 // All state is fixed-size; observe() and map() never allocate.
 #pragma once
 
@@ -23,7 +26,7 @@ namespace vigs::drivers {
 struct ClockMapperSettings {
   double max_drift_ppm = 1000.0;    ///< |device vs host rate error| accepted from the fit
   double warmup_creep_ppm = 300.0;  ///< offset rise rate before the drift is fitted
-  double offset_creep_ppm = 20.0;   ///< offset rise rate once the drift is fitted
+  double offset_creep_ppm = 10.0;   ///< offset rise rate once the drift is fitted
   std::int64_t envelope_window_ns = 250'000'000;  ///< device time per envelope point
   double fit_forgetting = 0.97;  ///< weight kept per window (memory ~ 1/(1-f) windows)
   int min_fit_windows = 4;       ///< envelope points before the drift is trusted
