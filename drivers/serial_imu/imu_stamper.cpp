@@ -39,6 +39,15 @@ void ImuStamper::restart(std::uint64_t raw_ticks) noexcept {
   backward_run_ = 0;
 }
 
+void ImuStamper::reset() noexcept {
+  batch_.clear();
+  held_.clear();
+  mapper_.reset();
+  started_ = false;
+  warm_ = s_.warmup_samples == 0;
+  backward_run_ = 0;
+}
+
 void ImuStamper::on_sample(const DeviceImuSample& sample) noexcept {
   const std::uint64_t raw = sample.device_ticks & counter_mask_;
   if (!started_) {

@@ -59,6 +59,9 @@ class ImuStamper final : public ImuSampleSink {
   void end_read() noexcept;
   /// Emits samples still held for warm-up, stamped with the fit so far.
   void release() noexcept;
+  /// Forgets the device time base and the fit (a new connection). Held samples are discarded;
+  /// output stays monotonic with what was already emitted. Counters are kept.
+  void reset() noexcept;
 
   [[nodiscard]] const StamperCounters& counters() const noexcept { return counters_; }
   [[nodiscard]] const ClockMapper& clock_mapper() const noexcept { return mapper_; }

@@ -44,6 +44,7 @@ void SerialImuDriver::start() {
   if (thread_) return;
   port_ = SerialPort::open(settings_.port, settings_.baud);
   parser_->reset();
+  stamper_.reset();
   rt::ThreadSpec spec = rt::thread_spec("imu_driver");
   if (!settings_.realtime_thread) {
     spec.sched_fifo_priority = 0;
@@ -67,7 +68,10 @@ void SerialImuDriver::run(const std::stop_token& stop) noexcept {
     pollfd pfd{fd, POLLIN, 0};
     const int ready = ::poll(&pfd, 1, settings_.poll_timeout_ms);
     if (ready < 0) {
-      if (errno != EINTR) read_errors_.add();
+      if (errno != EINTR) {
+        read_errors_.add();
+        rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(settings_.poll_timeout_ms));
+      }
       continue;
     }
     if (ready == 0) continue;

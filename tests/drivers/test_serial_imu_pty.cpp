@@ -180,6 +180,27 @@ TEST(SerialImuPty, FullRingDropsTheNewestAndCounts) {
   for (std::size_t i = 0; i < out.size(); ++i) expect_values(out[i], samples[i]);  // oldest kept
 }
 
+TEST(SerialImuPty, RestartTakesANewDeviceTimeBase) {
+  test::Pty pty;
+  rt::SpscRing<ImuSample> ring(1024);
+  SerialImuDriver driver(settings_for(pty), ring);
+  const auto first = test::euroc_samples(100, 4'000'000);
+  const auto second = test::euroc_samples(100, 0);  // the device restarted its counter
+  for (const auto* run : {&first, &second}) {
+    driver.start();
+    test::PacedFeeder feeder(pty, test::clean_segments(*run));
+    feeder.join();
+    const std::uint64_t want = (run == &first ? 1 : 2) * run->size();
+    ASSERT_TRUE(wait_for([&] { return driver.faults().packets_ok == want; }));
+    stop_promptly(driver);
+  }
+  const auto out = drain(ring);
+  ASSERT_EQ(out.size(), first.size() + second.size());
+  for (std::size_t i = 1; i < out.size(); ++i) EXPECT_GT(out[i].t_ns, out[i - 1].t_ns) << i;
+  const SerialImuFaults f = driver.faults();
+  EXPECT_EQ(f.non_monotonic_stamp + f.clock_resets + f.sample_counter_gap, 0u) << f.to_string();
+}
+
 TEST(SerialImuPty, StopsPromptlyWithoutData) {
   test::Pty pty;
   rt::SpscRing<ImuSample> ring(16);
