@@ -3,6 +3,7 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 
 #include "core/config/imu_settings.hpp"
@@ -62,15 +63,36 @@ void SerialImuDriver::stop() {
 }
 
 void SerialImuDriver::run(const std::stop_token& stop) noexcept {
-  const int fd = port_.fd();
+  const std::int64_t poll_period_ns = rt::ms_to_ns(settings_.poll_timeout_ms);
+  const std::int64_t reopen_period_ns = rt::ms_to_ns(settings_.reopen_interval_ms);
+  int fd = port_.fd();
   bool hung_up = false;
+  std::int64_t next_reopen_ns = 0;
   while (!stop.stop_requested()) {
+    if (fd < 0) {
+      // Port lost: try to open the same path again at the reopen interval (a re-plugged USB
+      // adapter comes back under its udev name). The new connection gets a new time base.
+      const std::int64_t now = rt::monotonic_ns();
+      if (now < next_reopen_ns) {
+        rt::sleep_until_ns(std::min(next_reopen_ns, now + poll_period_ns));
+        continue;
+      }
+      next_reopen_ns = now + reopen_period_ns;
+      if (port_.reopen()) {
+        fd = port_.fd();
+        reopens_.add();
+        parser_->reset();
+        stamper_.reset();
+      }
+      continue;
+    }
+
     pollfd pfd{fd, POLLIN, 0};
     const int ready = ::poll(&pfd, 1, settings_.poll_timeout_ms);
     if (ready < 0) {
       if (errno != EINTR) {
         read_errors_.add();
-        rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(settings_.poll_timeout_ms));
+        rt::sleep_until_ns(rt::monotonic_ns() + poll_period_ns);
       }
       continue;
     }
@@ -96,7 +118,8 @@ void SerialImuDriver::run(const std::stop_token& stop) noexcept {
     }
     if (!got_data && (eof || (pfd.revents & (POLLHUP | POLLERR | POLLNVAL)) != 0)) {
       // Readable or hung up but nothing read: the other end is gone (EIO / EOF on a pty slave
-      // whose master closed, or an unplugged USB adapter). Count once, flush, and do not spin.
+      // whose master closed, or an unplugged USB adapter). Count the episode once, flush, and
+      // never spin: close and retry later, or (reopen disabled) sleep a poll period.
       if (!hung_up) {
         hung_up = true;
         if (parser_->pending_bytes() > 0) {
@@ -106,7 +129,13 @@ void SerialImuDriver::run(const std::stop_token& stop) noexcept {
         stamper_.release();
         hangups_.add();  // last: a reader that sees the hang-up sees its consequences too
       }
-      rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(settings_.poll_timeout_ms));
+      if (reopen_period_ns > 0) {
+        port_.close();
+        fd = -1;
+        next_reopen_ns = rt::monotonic_ns() + reopen_period_ns;
+      } else {
+        rt::sleep_until_ns(rt::monotonic_ns() + poll_period_ns);
+      }
     }
   }
   stamper_.release();
@@ -121,6 +150,7 @@ SerialImuFaults SerialImuDriver::faults() const noexcept {
   f.read_errors = read_errors_.get();
   f.hangups = hangups_.get();
   f.truncated_at_hangup = truncated_at_hangup_.get();
+  f.reopens = reopens_.get();
   return f;
 }
 

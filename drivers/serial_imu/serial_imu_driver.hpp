@@ -7,8 +7,9 @@
 // Ring policy: push_or_drop: when the ring is full the newest sample is dropped and counted
 // (ring_drops); the driver never blocks.
 // A hang-up (device unplugged, pty master closed) is counted once per episode; a message it cut
-// off is dropped and counted (truncated_at_hangup), held warm-up samples are released, and the
-// thread keeps polling at the timeout period until stopped.
+// off is dropped and counted (truncated_at_hangup) and held warm-up samples are released. The
+// port is then closed and reopened by path every reopen_interval_ms (without allocating) until it
+// comes back (counted in reopens; the new connection gets a new device time base) or stop().
 // Real-time: the parser, stamper buffers and read buffer are allocated by the constructor; the
 // loop does not allocate, lock or log.
 #pragma once
@@ -39,8 +40,9 @@ struct SerialImuDriverSettings {
   std::string port = "/dev/ttyUSB0";
   int baud = 921600;
   std::string protocol = "xsens_mt";
-  int poll_timeout_ms = 20;     ///< bound on stop() latency
-  bool realtime_thread = true;  ///< apply the thread table's priority and CPU
+  int poll_timeout_ms = 20;      ///< bound on stop() latency
+  int reopen_interval_ms = 500;  ///< after a hang-up, reopen the port this often (0: never)
+  bool realtime_thread = true;   ///< apply the thread table's priority and CPU
   ImuStamperSettings stamper;
 };
 
@@ -91,6 +93,7 @@ class SerialImuDriver {
   rt::SingleWriterCounter read_errors_;
   rt::SingleWriterCounter hangups_;
   rt::SingleWriterCounter truncated_at_hangup_;
+  rt::SingleWriterCounter reopens_;
   std::optional<rt::RtThread> thread_;
 };
 

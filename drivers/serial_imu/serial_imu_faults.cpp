@@ -32,6 +32,7 @@ constexpr Field kFields[] = {
     {"read_errors", &SerialImuFaults::read_errors},
     {"hangups", &SerialImuFaults::hangups},
     {"truncated_at_hangup", &SerialImuFaults::truncated_at_hangup},
+    {"reopens", &SerialImuFaults::reopens},
 };
 
 }  // namespace

@@ -32,6 +32,7 @@ struct SerialImuFaults {
   std::uint64_t read_errors = 0;          ///< read()/poll() errors other than EAGAIN/EINTR
   std::uint64_t hangups = 0;              ///< port hung up (device unplugged, pty master closed)
   std::uint64_t truncated_at_hangup = 0;  ///< a message was cut off by a hang-up
+  std::uint64_t reopens = 0;              ///< port reopened after a hang-up
 
   [[nodiscard]] std::string to_json() const;
   [[nodiscard]] std::string to_string() const;

@@ -25,10 +25,6 @@ constexpr BaudEntry kStandardRates[] = {
     {576000, B576000}, {921600, B921600},
 };
 
-[[noreturn]] void throw_errno(const std::string& path, const char* step) {
-  throw std::system_error(errno, std::generic_category(), "serial port " + path + ": " + step);
-}
-
 }  // namespace
 
 unsigned standard_baud_constant(int baud) noexcept {
@@ -38,18 +34,36 @@ unsigned standard_baud_constant(int baud) noexcept {
   return 0;
 }
 
-SerialPort SerialPort::open(const std::string& path, int baud) {
-  if (baud <= 0) {
-    throw std::invalid_argument("serial port " + path + ": baud rate " + std::to_string(baud) +
-                                " must be positive");
+const char* to_string(SerialOpenStep step) noexcept {
+  switch (step) {
+    case SerialOpenStep::kOpen:
+      return "open";
+    case SerialOpenStep::kGetAttributes:
+      return "tcgetattr (not a tty?)";
+    case SerialOpenStep::kSetSpeed:
+      return "cfsetspeed";
+    case SerialOpenStep::kSetAttributes:
+      return "tcsetattr";
+    case SerialOpenStep::kCustomBaud:
+      return "custom baud (termios2 BOTHER)";
   }
-  SerialPort port;
-  port.path_ = path;
-  port.fd_ = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (port.fd_ < 0) throw_errno(path, "open");
+  return "?";
+}
 
+int open_serial_fd(const char* path, int baud, SerialOpenStep& failed_step) noexcept {
+  const int fd = ::open(path, O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    failed_step = SerialOpenStep::kOpen;
+    return -1;
+  }
+  auto fail = [&](SerialOpenStep step, int err) {
+    ::close(fd);
+    errno = err;
+    failed_step = step;
+    return -1;
+  };
   termios tio{};
-  if (::tcgetattr(port.fd_, &tio) != 0) throw_errno(path, "tcgetattr (not a tty?)");
+  if (::tcgetattr(fd, &tio) != 0) return fail(SerialOpenStep::kGetAttributes, errno);
   ::cfmakeraw(&tio);  // 8 data bits, no parity, no echo, no canonical mode or signals
   tio.c_cflag |= CLOCAL | CREAD;
   tio.c_cflag &= ~(CSTOPB | CRTSCTS);
@@ -57,23 +71,43 @@ SerialPort SerialPort::open(const std::string& path, int baud) {
   tio.c_cc[VMIN] = 0;  // read() returns what is there; poll() does the waiting
   tio.c_cc[VTIME] = 0;
   const unsigned standard = standard_baud_constant(baud);
-  if (standard != 0) {
-    if (::cfsetispeed(&tio, static_cast<speed_t>(standard)) != 0 ||
-        ::cfsetospeed(&tio, static_cast<speed_t>(standard)) != 0) {
-      throw_errno(path, "cfsetspeed");
-    }
+  if (standard != 0 && (::cfsetispeed(&tio, static_cast<speed_t>(standard)) != 0 ||
+                        ::cfsetospeed(&tio, static_cast<speed_t>(standard)) != 0)) {
+    return fail(SerialOpenStep::kSetSpeed, errno);
   }
-  if (::tcsetattr(port.fd_, TCSANOW, &tio) != 0) throw_errno(path, "tcsetattr");
+  if (::tcsetattr(fd, TCSANOW, &tio) != 0) return fail(SerialOpenStep::kSetAttributes, errno);
   if (standard == 0) {
-    try {
-      set_custom_baud(port.fd_, baud);
-    } catch (const std::system_error& e) {
-      throw std::system_error(e.code(), "serial port " + path + ": custom baud " +
-                                            std::to_string(baud) + " (termios2 BOTHER)");
-    }
+    const int err = set_custom_baud_errno(fd, baud);
+    if (err != 0) return fail(SerialOpenStep::kCustomBaud, err);
   }
-  ::tcflush(port.fd_, TCIFLUSH);  // stale bytes from before we opened carry no usable time
+  ::tcflush(fd, TCIFLUSH);  // stale bytes from before we opened carry no usable time
+  return fd;
+}
+
+SerialPort SerialPort::open(const std::string& path, int baud) {
+  if (baud <= 0) {
+    throw std::invalid_argument("serial port " + path + ": baud rate " + std::to_string(baud) +
+                                " must be positive");
+  }
+  SerialPort port;
+  port.path_ = path;
+  port.baud_ = baud;
+  SerialOpenStep step{};
+  port.fd_ = open_serial_fd(path.c_str(), baud, step);
+  if (port.fd_ < 0) {
+    std::string what = "serial port " + path + ": " + to_string(step);
+    if (step == SerialOpenStep::kCustomBaud) what += " at " + std::to_string(baud) + " bit/s";
+    throw std::system_error(errno, std::generic_category(), what);
+  }
   return port;
+}
+
+bool SerialPort::reopen() noexcept {
+  close();
+  if (path_.empty() || baud_ <= 0) return false;
+  SerialOpenStep step{};
+  fd_ = open_serial_fd(path_.c_str(), baud_, step);
+  return fd_ >= 0;
 }
 
 SerialPort::~SerialPort() {
@@ -81,12 +115,13 @@ SerialPort::~SerialPort() {
 }
 
 SerialPort::SerialPort(SerialPort&& other) noexcept
-    : fd_(std::exchange(other.fd_, -1)), path_(std::move(other.path_)) {}
+    : fd_(std::exchange(other.fd_, -1)), baud_(other.baud_), path_(std::move(other.path_)) {}
 
 SerialPort& SerialPort::operator=(SerialPort&& other) noexcept {
   if (this != &other) {
     close();
     fd_ = std::exchange(other.fd_, -1);
+    baud_ = other.baud_;
     path_ = std::move(other.path_);
   }
   return *this;

@@ -16,8 +16,23 @@ namespace vigs::drivers {
 
 /// Sets an arbitrary rate with termios2/BOTHER (both directions). Throws std::system_error.
 void set_custom_baud(int fd, int baud);
+/// The same without exceptions: 0, or the errno of the failing ioctl.
+[[nodiscard]] int set_custom_baud_errno(int fd, int baud) noexcept;
 /// The output rate the kernel reports through TCGETS2 (c_ospeed). Throws std::system_error.
 [[nodiscard]] int read_termios2_baud(int fd);
+
+enum class SerialOpenStep : unsigned char {
+  kOpen,
+  kGetAttributes,
+  kSetSpeed,
+  kSetAttributes,
+  kCustomBaud
+};
+[[nodiscard]] const char* to_string(SerialOpenStep step) noexcept;
+
+/// Opens and configures `path` without allocating or throwing (usable on a real-time thread):
+/// the fd, or -1 with errno set and `failed_step` saying which step failed.
+[[nodiscard]] int open_serial_fd(const char* path, int baud, SerialOpenStep& failed_step) noexcept;
 
 class SerialPort {
  public:
@@ -32,6 +47,10 @@ class SerialPort {
   SerialPort(const SerialPort&) = delete;
   SerialPort& operator=(const SerialPort&) = delete;
 
+  /// Closes and opens the same path again with the same settings (a USB adapter that was
+  /// unplugged and re-enumerated under a stable name). No allocation; false if it failed.
+  bool reopen() noexcept;
+
   [[nodiscard]] int fd() const noexcept { return fd_; }
   [[nodiscard]] bool is_open() const noexcept { return fd_ >= 0; }
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
@@ -39,6 +58,7 @@ class SerialPort {
 
  private:
   int fd_ = -1;
+  int baud_ = 0;
   std::string path_;
 };
 

@@ -4,6 +4,8 @@
 
 #include <termios.h>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <system_error>
 #include <thread>
@@ -199,6 +201,53 @@ TEST(SerialImuPty, RestartTakesANewDeviceTimeBase) {
   for (std::size_t i = 1; i < out.size(); ++i) EXPECT_GT(out[i].t_ns, out[i - 1].t_ns) << i;
   const SerialImuFaults f = driver.faults();
   EXPECT_EQ(f.non_monotonic_stamp + f.clock_resets + f.sample_counter_gap, 0u) << f.to_string();
+}
+
+TEST(SerialImuPty, ReopensWhenTheDeviceComesBackUnderItsName) {
+  // A USB adapter unplugged and plugged in again: its udev name (here a symlink) now points to a
+  // new tty. The driver reopens the path and carries on with a new device time base.
+  const std::string link = ::testing::TempDir() + "/imu_link_" + std::to_string(::getpid());
+  ::unlink(link.c_str());
+  test::Pty first;
+  ASSERT_EQ(::symlink(first.slave_path().c_str(), link.c_str()), 0);
+  rt::SpscRing<ImuSample> ring(1024);
+  SerialImuDriverSettings s = settings_for(first);
+  s.port = link;
+  s.reopen_interval_ms = 50;
+  SerialImuDriver driver(s, ring);
+  driver.start();
+  const auto a = test::euroc_samples(100, 9'000);
+  const auto b = test::euroc_samples(100, 0);
+  std::size_t a_bytes = 0;
+  for (const auto& seg : test::clean_segments(a)) a_bytes += seg.bytes.size();
+  {
+    test::PacedFeeder feeder(first, test::clean_segments(a),
+                             [&] { return driver.faults().bytes_read == a_bytes; });
+  }
+  ASSERT_TRUE(wait_for([&] { return driver.faults().hangups == 1; }));
+  test::Pty second;  // the device is back, under a new tty
+  const std::string tmp_link = link + ".new";
+  ASSERT_EQ(::symlink(second.slave_path().c_str(), tmp_link.c_str()), 0);
+  ASSERT_EQ(::rename(tmp_link.c_str(), link.c_str()), 0);
+  ASSERT_TRUE(wait_for([&] { return driver.faults().reopens == 1; }));
+  { test::PacedFeeder feeder(second, test::clean_segments(b)); }
+  ASSERT_TRUE(wait_for([&] { return driver.faults().packets_ok == a.size() + b.size(); }));
+  stop_promptly(driver);
+  ::unlink(link.c_str());
+
+  const auto out = drain(ring);
+  ASSERT_EQ(out.size(), a.size() + b.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    expect_values(out[i], i < a.size() ? a[i] : b[i - a.size()]);
+    if (i > 0) {
+      EXPECT_GT(out[i].t_ns, out[i - 1].t_ns) << i;
+    }
+  }
+  const SerialImuFaults f = driver.faults();
+  EXPECT_EQ(f.hangups, 1u);
+  EXPECT_EQ(f.reopens, 1u);
+  EXPECT_EQ(f.non_monotonic_stamp + f.clock_resets + f.sample_counter_gap + f.bad_checksum, 0u)
+      << f.to_string();
 }
 
 TEST(SerialImuPty, StopsPromptlyWithoutData) {
