@@ -1,6 +1,7 @@
 // The driver's read loop does not allocate: this binary replaces global operator new and counts
 // allocations made by the thread named `imu_driver` (the rt thread table's name for the driver
-// thread) while it reads clean and faulty streams through a pty, hangs up and stops.
+// thread) while it reads clean and faulty streams through a pty, overflows its ring, hangs up,
+// tries to reopen the vanished port, and stops.
 #include <gtest/gtest.h>
 #include <sys/prctl.h>
 
@@ -72,6 +73,7 @@ TEST(SerialImuDriver, ReadLoopDoesNotAllocate) {
   SerialImuDriverSettings s;
   s.port = pty.slave_path();
   s.realtime_thread = false;
+  s.reopen_interval_ms = 10;  // reopen attempts (the pty is gone: they fail) run before stop
   SerialImuDriver driver(s, ring);
   driver.start();
   ASSERT_NE(driver.thread_status(), nullptr);
@@ -84,6 +86,7 @@ TEST(SerialImuDriver, ReadLoopDoesNotAllocate) {
   while (driver.faults().hangups == 0 && rt::monotonic_ns() < deadline) {
     rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(5));
   }
+  rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(100));
   driver.stop();
   const SerialImuFaults f = driver.faults();
   ASSERT_EQ(f.hangups, 1u);
