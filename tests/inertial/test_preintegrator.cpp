@@ -9,6 +9,7 @@
 #include "inertial/nav_state.hpp"
 #include "inertial/preintegrate_window.hpp"
 #include "inertial/preintegrator.hpp"
+#include "inertial/so3_integrals.hpp"
 #include "inertial/synthetic_motion.hpp"
 
 namespace vigs::inertial {
@@ -272,6 +273,36 @@ TEST(Covariance, MatchesMonteCarloSpread) {
       const double measured = S.block<3, 3>(3 * b, 3 * b).trace();
       EXPECT_GT(measured / predicted, 0.75) << integration_scheme_name(scheme) << " block " << b;
       EXPECT_LT(measured / predicted, 1.3) << integration_scheme_name(scheme) << " block " << b;
+    }
+  }
+}
+
+TEST(So3Integrals, MatchQuadratureAndNumericDerivativesOnBothBranches) {
+  const Vector3d a(0.3, -1.2, 9.6);
+  for (double theta : {1e-3, 0.15, 0.199999, 0.200001, 0.6, 2.5}) {
+    const Vector3d phi = theta * Vector3d(0.48, -0.6, 0.64);
+    // Simpson quadrature of int_0^1 Exp(s phi) ds and int_0^1 (1 - s) Exp(s phi) ds (= Q).
+    const int n = 2000;
+    Matrix3d L = Matrix3d::Zero(), Q = Matrix3d::Zero();
+    for (int k = 0; k <= n; ++k) {
+      const double s = static_cast<double>(k) / n;
+      const double w = (k == 0 || k == n) ? 1.0 : (k % 2 ? 4.0 : 2.0);
+      const Matrix3d E = geometry::so3_exp<double>(Vector3d(s * phi));
+      L += w * E / (3.0 * n);
+      Q += w * (1.0 - s) * E / (3.0 * n);
+    }
+    EXPECT_LT((so3_first_integral(phi).matrix(phi) - L).norm(), 1e-12) << theta;
+    EXPECT_LT((so3_second_integral(phi).matrix(phi) - Q).norm(), 1e-12) << theta;
+    EXPECT_LT((so3_first_integral(phi).apply(phi, a) - L * a).norm(), 1e-11) << theta;
+    for (const auto& f : {so3_first_integral, so3_second_integral}) {
+      Matrix3d numeric;
+      const double h = 1e-6;
+      for (int c = 0; c < 3; ++c) {
+        Vector3d d = Vector3d::Zero();
+        d[c] = h;
+        numeric.col(c) = (f(phi + d).apply(phi + d, a) - f(phi - d).apply(phi - d, a)) / (2 * h);
+      }
+      EXPECT_LT((f(phi).derivative(phi, a) - numeric).norm(), 1e-7) << theta;
     }
   }
 }
