@@ -67,29 +67,39 @@ bool Preintegrator::integrate_until(std::int64_t t_ns, const ImuSample& next) {
 }
 
 void Preintegrator::step(const ImuSample& next, double dt_s) {
-  Mat9 A = Mat9::Identity();
-  Mat93 Bg = Mat93::Zero();
-  Mat93 Ba = Mat93::Zero();
+  StepJacobians F;
   if (scheme_ == IntegrationScheme::kMidpoint) {
-    midpoint_step(next, dt_s, A, Bg, Ba);
+    midpoint_step(next, dt_s, F);
   } else {
-    zoh_step(dt_s, A, Bg, Ba);
+    zoh_step(dt_s, F);
   }
-  // The biases enter as (w - bg) and (a - ba): a bias change acts as minus a reading change.
-  jac_ = A * jac_;
-  jac_.leftCols<3>() -= Bg;
-  jac_.rightCols<3>() -= Ba;
-  // Discrete white noise: covariance density^2 / dt per step.
+  // J <- A J - [Bg Ba]: the biases enter as (w - bg) and (a - ba), so a bias change acts as
+  // minus a reading change. A's block structure is used instead of a dense 9x9 product.
+  const Mat96 J = jac_;
+  jac_.middleRows<3>(3) += F.A_vr * J.topRows<3>();
+  jac_.bottomRows<3>() += F.A_pr * J.topRows<3>() + dt_s * J.middleRows<3>(3);
+  jac_.topRows<3>() = F.A_rr * J.topRows<3>();
+  jac_.leftCols<3>() -= F.Bg;
+  jac_.rightCols<3>() -= F.Ba;
+  // Sigma <- A Sigma A^T + Bg Qg Bg^T + Ba Qa Ba^T, discrete white noise density^2 / dt.
+  Mat9 M = cov_;  // A Sigma
+  M.middleRows<3>(3) += F.A_vr * cov_.topRows<3>();
+  M.bottomRows<3>() += F.A_pr * cov_.topRows<3>() + dt_s * cov_.middleRows<3>(3);
+  M.topRows<3>() = F.A_rr * cov_.topRows<3>();
+  cov_ = M;  // (A Sigma) A^T
+  cov_.middleCols<3>(3) += M.leftCols<3>() * F.A_vr.transpose();
+  cov_.rightCols<3>() += M.leftCols<3>() * F.A_pr.transpose() + dt_s * M.middleCols<3>(3);
+  cov_.leftCols<3>() = M.leftCols<3>() * F.A_rr.transpose();
   const double var_g = noise_.gyro_noise_density * noise_.gyro_noise_density / dt_s;
   const double var_a = noise_.accel_noise_density * noise_.accel_noise_density / dt_s;
-  cov_ = A * cov_ * A.transpose() + var_g * Bg * Bg.transpose() + var_a * Ba * Ba.transpose();
+  cov_.noalias() += var_g * F.Bg * F.Bg.transpose();
+  cov_.noalias() += var_a * F.Ba * F.Ba.transpose();
 }
 
 // Midpoint: w = (w0 + w1)/2 - bg held over the step; the specific force is the mean of the
 // two bias-corrected readings rotated by the increments at either end. A, Bg, Ba are the
 // exact derivatives of the step w.r.t. the error state and the gyro / accel readings.
-void Preintegrator::midpoint_step(const ImuSample& next, double dt_s, Mat9& A, Mat93& Bg,
-                                  Mat93& Ba) {
+void Preintegrator::midpoint_step(const ImuSample& next, double dt_s, StepJacobians& F) {
   const Vector3d w = 0.5 * (gyro(last_) + gyro(next)) - bg_;
   const Vector3d a0 = accel(last_) - ba_;
   const Vector3d a1 = accel(next) - ba_;
@@ -105,15 +115,14 @@ void Preintegrator::midpoint_step(const ImuSample& next, double dt_s, Mat9& A, M
   const Matrix3d da_da = 0.5 * (R0 + R1);
   const double h = 0.5 * dt_s * dt_s;
 
-  A.block<3, 3>(0, 0) = dR.transpose();
-  A.block<3, 3>(3, 0) = dt_s * da_dphi;
-  A.block<3, 3>(6, 0) = h * da_dphi;
-  A.block<3, 3>(6, 3) = dt_s * Matrix3d::Identity();
-  Bg.block<3, 3>(0, 0) = dt_s * Jr;
-  Bg.block<3, 3>(3, 0) = dt_s * da_dw;
-  Bg.block<3, 3>(6, 0) = h * da_dw;
-  Ba.block<3, 3>(3, 0) = dt_s * da_da;
-  Ba.block<3, 3>(6, 0) = h * da_da;
+  F.A_rr = dR.transpose();
+  F.A_vr = dt_s * da_dphi;
+  F.A_pr = h * da_dphi;
+  F.Bg.block<3, 3>(0, 0) = dt_s * Jr;
+  F.Bg.block<3, 3>(3, 0) = dt_s * da_dw;
+  F.Bg.block<3, 3>(6, 0) = h * da_dw;
+  F.Ba.block<3, 3>(3, 0) = dt_s * da_da;
+  F.Ba.block<3, 3>(6, 0) = h * da_da;
 
   dp_ += dv_ * dt_s + h * a_mid;
   dv_ += dt_s * a_mid;
@@ -122,7 +131,7 @@ void Preintegrator::midpoint_step(const ImuSample& next, double dt_s, Mat9& A, M
 
 // Exact zero-order hold: the earlier reading (w, a) is held over the step and the rotation
 // inside the step is integrated in closed form (see so3_integrals.hpp).
-void Preintegrator::zoh_step(double dt_s, Mat9& A, Mat93& Bg, Mat93& Ba) {
+void Preintegrator::zoh_step(double dt_s, StepJacobians& F) {
   const Vector3d w = gyro(last_) - bg_;
   const Vector3d a = accel(last_) - ba_;
   const Vector3d phi = w * dt_s;
@@ -135,15 +144,14 @@ void Preintegrator::zoh_step(double dt_s, Mat9& A, Mat93& Bg, Mat93& Ba) {
   const Matrix3d R0 = dR_;
   const double dt2 = dt_s * dt_s;
 
-  A.block<3, 3>(0, 0) = dR.transpose();
-  A.block<3, 3>(3, 0) = -dt_s * R0 * hat<double>(u);
-  A.block<3, 3>(6, 0) = -dt2 * R0 * hat<double>(q);
-  A.block<3, 3>(6, 3) = dt_s * Matrix3d::Identity();
-  Bg.block<3, 3>(0, 0) = dt_s * Jr;
-  Bg.block<3, 3>(3, 0) = dt2 * R0 * L.derivative(phi, a);
-  Bg.block<3, 3>(6, 0) = dt2 * dt_s * R0 * Q.derivative(phi, a);
-  Ba.block<3, 3>(3, 0) = dt_s * R0 * L.matrix(phi);
-  Ba.block<3, 3>(6, 0) = dt2 * R0 * Q.matrix(phi);
+  F.A_rr = dR.transpose();
+  F.A_vr = -dt_s * R0 * hat<double>(u);
+  F.A_pr = -dt2 * R0 * hat<double>(q);
+  F.Bg.block<3, 3>(0, 0) = dt_s * Jr;
+  F.Bg.block<3, 3>(3, 0) = dt2 * R0 * L.derivative(phi, a);
+  F.Bg.block<3, 3>(6, 0) = dt2 * dt_s * R0 * Q.derivative(phi, a);
+  F.Ba.block<3, 3>(3, 0) = dt_s * R0 * L.matrix(phi);
+  F.Ba.block<3, 3>(6, 0) = dt2 * R0 * Q.matrix(phi);
 
   dp_ += dv_ * dt_s + dt2 * (R0 * q);
   dv_ += dt_s * (R0 * u);

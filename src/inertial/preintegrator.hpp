@@ -91,9 +91,16 @@ class Preintegrator {
 
  private:
   using Mat93 = Eigen::Matrix<double, 9, 3>;
+  /// Derivatives of one step w.r.t. the error state and the readings. The state transition
+  /// is A = [[A_rr, 0, 0], [A_vr, I, 0], [A_pr, dt I, I]]; Bg, Ba map reading errors.
+  struct StepJacobians {
+    Eigen::Matrix3d A_rr, A_vr, A_pr;
+    Mat93 Bg = Mat93::Zero();
+    Mat93 Ba = Mat93::Zero();
+  };
   void step(const ImuSample& next, double dt_s);
-  void midpoint_step(const ImuSample& next, double dt_s, Mat9& A, Mat93& Bg, Mat93& Ba);
-  void zoh_step(double dt_s, Mat9& A, Mat93& Bg, Mat93& Ba);
+  void midpoint_step(const ImuSample& next, double dt_s, StepJacobians& F);
+  void zoh_step(double dt_s, StepJacobians& F);
 
   IntegrationScheme scheme_ = IntegrationScheme::kMidpoint;
   ImuNoise noise_;
