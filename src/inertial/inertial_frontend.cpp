@@ -1,6 +1,7 @@
 #include "inertial/inertial_frontend.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "inertial/imu_interpolation.hpp"
 
@@ -23,6 +24,7 @@ InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings&
   o.T_b_c.linear() = R_b_c;
   o.T_b_c.translation() =
       Eigen::Vector3d(extrinsics.t_b_c_m[0], extrinsics.t_b_c_m[1], extrinsics.t_b_c_m[2]);
+  o.time_offset_ns = static_cast<std::int64_t>(std::llround(imu.time_offset_s * 1e9));
   o.buffer_capacity = inertial.buffer_capacity;
   o.velocity_reset =
       inertial.velocity_reset == "imu" ? VelocityReset::kImu : VelocityReset::kDifference;
@@ -85,7 +87,8 @@ ImuSample InertialFrontend::reading_at(std::int64_t t_ns) {
   return interpolate_sample(last_consumed_, last_consumed_, t_ns);
 }
 
-std::optional<NavState> InertialFrontend::predict_state(std::int64_t t_ns) {
+std::optional<NavState> InertialFrontend::predict_state(std::int64_t t_cam_ns) {
+  const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
   if (!started_ || t_ns < pi_.t_end_ns()) return std::nullopt;
   advance_to(t_ns);
   Preintegrator p = pi_;
@@ -101,7 +104,8 @@ std::optional<geometry::Pose> InertialFrontend::predict_camera_pose(std::int64_t
   return T_w_c_last_ * options_.T_b_c.inverse() * relative_body_motion(state_, *s) * options_.T_b_c;
 }
 
-bool InertialFrontend::reset_from_tracked(std::int64_t t_ns, const geometry::Pose& T_w_c) {
+bool InertialFrontend::reset_from_tracked(std::int64_t t_cam_ns, const geometry::Pose& T_w_c) {
+  const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
   if (started_ && t_ns < pi_.t_end_ns()) return false;
   advance_to(t_ns);
   const ImuSample r = reading_at(t_ns);

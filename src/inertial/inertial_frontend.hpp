@@ -36,6 +36,7 @@ struct InertialFrontendOptions {
   ImuNoise noise;
   Eigen::Vector3d g_w_mps2{0.0, 0.0, -9.81};
   geometry::Pose T_b_c = geometry::Pose::Identity();  ///< camera-to-body extrinsic
+  std::int64_t time_offset_ns = 0;  ///< IMU clock minus camera clock (imu.time_offset_s)
   int buffer_capacity = 4096;
   VelocityReset velocity_reset = VelocityReset::kDifference;
   bool estimate_gyro_bias = true;
@@ -61,6 +62,7 @@ class InertialFrontend {
   /// Queues one sample. Refuses (returns false) samples older than the last one queued.
   bool add_sample(const ImuSample& s);
 
+  /// Frame times t_ns below are camera stamps; the IMU is read at t_ns + time_offset_ns.
   /// Camera pose guess at t_ns. nullopt before the first reset_from_tracked() or for a time
   /// before the last reset.
   [[nodiscard]] std::optional<geometry::Pose> predict_camera_pose(std::int64_t t_ns);

@@ -27,6 +27,7 @@ struct Scenario {
   Vector3d gyro_bias_rps = Vector3d::Zero();
   InertialFrontendOptions options;
   std::int64_t next_imu_ns = 0;
+  std::int64_t imu_clock_offset_ns = 0;  // IMU stamps = motion time + offset
 
   Scenario() {
     options = InertialFrontendOptions::from(config::ImuSettings{}, config::ExtrinsicsSettings{},
@@ -43,6 +44,7 @@ struct Scenario {
   void feed(InertialFrontend& f, std::int64_t t_ns) {
     while (next_imu_ns <= t_ns + 2 * kImuPeriodNs) {
       ImuSample s = motion.sample(next_imu_ns, kGravity);
+      s.t_ns += imu_clock_offset_ns;
       for (int k = 0; k < 3; ++k) s.gyro_rps[k] += gyro_bias_rps[k];
       f.add_sample(s);
       next_imu_ns += kImuPeriodNs;
@@ -88,6 +90,20 @@ TEST(InertialFrontend, GuessFollowsTheMotionWithImuCorrectedVelocity) {
   EXPECT_LT(e.max_rotation_deg, 1e-3);
   EXPECT_EQ(f.counters().resets, 100);
   EXPECT_EQ(f.counters().extrapolated, 0);
+}
+
+TEST(InertialFrontend, ImuClockOffsetIsApplied) {
+  Scenario sc;
+  sc.options.velocity_reset = VelocityReset::kImu;
+  sc.imu_clock_offset_ns = 20'000'000;
+  sc.options.time_offset_ns = 20'000'000;
+  InertialFrontend f(sc.options);
+  EXPECT_LT(run(sc, f, 40).max_translation_m, 2e-5);
+  Scenario wrong = sc;  // offset ignored: visibly worse
+  wrong.next_imu_ns = 0;
+  wrong.options.time_offset_ns = 0;
+  InertialFrontend g(wrong.options);
+  EXPECT_GT(run(wrong, g, 40).max_translation_m, 1e-4);
 }
 
 TEST(InertialFrontend, PaperVelocityResetLagsByHalfAFrameButStaysClose) {
