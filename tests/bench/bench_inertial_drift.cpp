@@ -66,7 +66,8 @@ Pose truth_camera(const SyntheticMotion& m, const Pose& T_b_c, std::int64_t t_ns
 }
 
 // range(0): gyro-bias estimate off/on; range(1): GICP rotation noise, millidegrees;
-// range(2): GICP translation noise, mm; range(3): gain in percent per frame.
+// range(2): GICP translation noise, mm; range(3): gain in percent per frame;
+// range(4): velocity reset 0 = difference (the paper), 1 = imu-corrected.
 void BM_GyroBiasDrift(benchmark::State& state) {
   const bool estimate = state.range(0) != 0;
   const double rot_noise_rad = 1e-3 * static_cast<double>(state.range(1)) * M_PI / 180.0;
@@ -75,6 +76,7 @@ void BM_GyroBiasDrift(benchmark::State& state) {
   vigs::config::InertialSettings inertial;
   inertial.estimate_gyro_bias = estimate;
   inertial.gyro_bias_gain = 0.01 * static_cast<double>(state.range(3));
+  inertial.velocity_reset = state.range(4) != 0 ? "imu" : "difference";
   const auto opts =
       InertialFrontendOptions::from(imu, vigs::config::ExtrinsicsSettings{}, inertial);
   const SyntheticMotion motion;
@@ -138,12 +140,15 @@ void BM_GyroBiasDrift(benchmark::State& state) {
   state.SetLabel(estimate ? "gyro-bias estimate on" : "off (baseline)");
 }
 BENCHMARK(BM_GyroBiasDrift)
-    ->ArgNames({"estimate", "rot_mdeg", "pos_mm", "gain_pct"})
-    ->Args({0, 20, 2, 10})
-    ->Args({1, 20, 2, 10})
-    ->Args({0, 50, 5, 10})
-    ->Args({1, 50, 5, 10})
-    ->Args({1, 50, 5, 3})
+    ->ArgNames({"estimate", "rot_mdeg", "pos_mm", "gain_pct", "vel_imu"})
+    ->Args({0, 20, 2, 10, 0})
+    ->Args({1, 20, 2, 10, 0})
+    ->Args({0, 50, 5, 10, 0})
+    ->Args({1, 50, 5, 10, 0})
+    ->Args({1, 50, 5, 3, 0})
+    ->Args({1, 20, 2, 10, 1})
+    ->Args({1, 0, 0, 10, 0})
+    ->Args({1, 0, 0, 10, 1})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
