@@ -5,6 +5,7 @@
 #include "core/config/dds_settings.hpp"
 #include "core/config/extrinsics_settings.hpp"
 #include "core/config/imu_settings.hpp"
+#include "core/config/inertial_settings.hpp"
 #include "core/config/rt_settings.hpp"
 #include "core/config/visitor.hpp"
 
@@ -16,6 +17,7 @@ struct RobotConfig {
   std::string robot = "sim_office";
   CameraSettings camera;
   ImuSettings imu;
+  InertialSettings inertial;
   ExtrinsicsSettings extrinsics;
   DdsSettings dds;
   RtSettings rt;
@@ -24,6 +26,7 @@ struct RobotConfig {
     v.field("robot", robot, {}, "robot name, used in logs and status");
     v.section("camera", camera);
     v.section("imu", imu);
+    v.section("inertial", inertial);
     v.section("extrinsics", extrinsics);
     v.section("dds", dds);
     v.section("rt", rt);
