@@ -114,11 +114,10 @@ void DepthToPoints::voxel_average(GaussianCloud& out) {
     voxel_keys_.emplace_back((cell(p.x()) << 42) | (cell(p.y()) << 21) | cell(p.z()), i);
   }
   std::sort(voxel_keys_.begin(), voxel_keys_.end());
-  std::size_t n_out = 0;
+  // The strided points are moved aside and the averages written back. This path allocates
+  // per frame; it is off by default (voxel_size_m = 0).
   std::vector<Eigen::Vector3f>& pts = out.points_m;
   std::vector<std::array<std::uint8_t, 3>>& col = out.colors_rgb;
-  // Averages are written in place: run r's output slot is <= its first input, and sorted
-  // order means inputs are read through their indices, so copy them first.
   std::vector<Eigen::Vector3f> src_pts;
   std::vector<std::array<std::uint8_t, 3>> src_col;
   src_pts.swap(pts);
@@ -140,10 +139,8 @@ void DepthToPoints::voxel_average(GaussianCloud& out) {
     col.push_back({static_cast<std::uint8_t>(std::lround(csum.x() / n)),
                    static_cast<std::uint8_t>(std::lround(csum.y() / n)),
                    static_cast<std::uint8_t>(std::lround(csum.z() / n))});
-    ++n_out;
     a = b;
   }
-  (void)n_out;
 }
 
 }  // namespace vigs::tracking
