@@ -51,8 +51,8 @@ class Gicp {
     RobustKernel kernel = RobustKernel::huber;
     double kernel_width = 0.5;  ///< on sqrt(d^T M d)
     int max_iterations = 30;
-    double rotation_eps_rad = 0.01 * 3.14159265358979323846 / 180.0;
-    double translation_eps_m = 1e-4;
+    double rotation_eps_rad = 0.1 * 3.14159265358979323846 / 180.0;
+    double translation_eps_m = 1e-3;
     double lm_lambda_init = 1e-6;  ///< initial damping of H + lambda I
     /// Degenerate when min/max eigenvalue of the Hessian is below this, after re-expressing
     /// rotations about the centroid of the matched points and scaling them by the RMS spread

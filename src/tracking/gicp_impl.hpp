@@ -84,6 +84,14 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
     }
     geometry::Pose T_new = geometry::se3_exp_rot_trans(dx) * T;
     T_new.linear() = geometry::normalize_rotation<double>(T_new.linear());
+    if (dx.head<3>().norm() < setting_.rotation_eps_rad &&
+        dx.tail<3>().norm() < setting_.translation_eps_m) {
+      // Converged: take the small final step without another correspondence search. H,
+      // inliers and cost are those of the last linearisation, at most eps away.
+      T = T_new;
+      converged = true;
+      break;
+    }
     Linearization lin_new = linearize(target, source, T_new);
     // Accept when the cost does not rise; fewer inliers can only lower the cost, so a step
     // that loses most of them is refused as well.
@@ -92,11 +100,6 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
       T = T_new;
       lin = lin_new;
       lambda = std::max(lambda * 0.1, 1e-12);
-      if (dx.head<3>().norm() < setting_.rotation_eps_rad &&
-          dx.tail<3>().norm() < setting_.translation_eps_m) {
-        converged = true;
-        break;
-      }
     } else {
       lambda = std::max(lambda, 1e-6) * 10.0;
       if (lambda > 1e6) {

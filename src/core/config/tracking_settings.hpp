@@ -23,8 +23,8 @@ struct TrackingSettings {
   std::string robust_kernel = "huber";         ///< none | huber | cauchy
   double robust_kernel_width = 0.5;            ///< on sqrt(d^T M d)
   int max_iterations = 30;
-  double rotation_eps_deg = 0.01;   ///< converged when |d rotation| is below this ...
-  double translation_eps_m = 1e-4;  ///< ... and |d translation| is below this
+  double rotation_eps_deg = 0.1;    ///< converged when |d rotation| is below this ...
+  double translation_eps_m = 1e-3;  ///< ... and |d translation| is below this
   int num_threads = 2;              ///< fixed partition, fixed-order sum: bit-identical
   // Keyframes.
   double keyframe_overlap_ratio = 0.9;        ///< new keyframe when overlap falls below
