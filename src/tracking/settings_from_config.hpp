@@ -6,6 +6,7 @@
 #include "core/config/tracking_settings.hpp"
 #include "tracking/gicp.hpp"
 #include "tracking/preprocess.hpp"
+#include "tracking/tracker.hpp"
 
 namespace vigs::tracking {
 
@@ -45,6 +46,26 @@ inline Gicp::Setting gicp_setting(const config::TrackingSettings& c) {
   s.degenerate_eigen_ratio = c.degenerate_eigen_ratio;
   s.overlap_distance_m = c.keyframe_overlap_distance_m;
   s.num_threads = c.num_threads;
+  return s;
+}
+
+inline Tracker::Setting tracker_setting(const config::TrackingSettings& c) {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  Tracker::Setting s;
+  s.preprocess = preprocess_setting(c);
+  s.gicp = gicp_setting(c);
+  s.local_map.voxel_m = c.local_map_voxel_m;
+  s.local_map.points_per_voxel = c.local_map_points_per_voxel;
+  s.local_map.max_voxels = c.local_map_max_voxels;
+  s.local_map.radius_m = c.local_map_radius_m;
+  s.keyframe.min_overlap_ratio = c.keyframe_overlap_ratio;
+  s.keyframe.max_translation_m = c.keyframe_translation_m;
+  s.keyframe.max_rotation_rad = c.keyframe_rotation_deg * kDeg;
+  s.initial_guess = initial_guess_from_string(c.initial_guess);
+  s.min_inlier_ratio = c.min_inlier_ratio;
+  s.max_correction_m = c.max_correction_m;
+  s.max_correction_rad = c.max_correction_deg * kDeg;
+  s.preprocess_threads = c.num_threads;
   return s;
 }
 
