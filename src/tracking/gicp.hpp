@@ -58,8 +58,8 @@ class Gicp {
     /// rotations about the centroid of the matched points and scaling them by the RMS spread
     /// about it (gicp_impl.hpp). A single plane gives about epsilon (1e-3).
     double degenerate_eigen_ratio = 1e-2;
-    double overlap_distance_m = 0.02;  ///< for GicpResult::overlap_ratio
-    int min_inliers = 20;              ///< fewer correspondences: diverged
+    double overlap_distance_m = 0.022;  ///< for GicpResult::overlap_ratio
+    int min_inliers = 20;               ///< fewer correspondences: diverged
     int num_threads = 2;
   };
 

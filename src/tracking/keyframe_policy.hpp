@@ -9,7 +9,7 @@ namespace vigs::tracking {
 
 struct KeyframePolicy {
   struct Setting {
-    double min_overlap_ratio = 0.9;
+    double min_overlap_ratio = 0.7;  ///< GS-ICP SLAM's keyframe_th
     double max_translation_m = 0.3;
     double max_rotation_rad = 15.0 * 3.14159265358979323846 / 180.0;
   };

@@ -76,6 +76,31 @@ TEST(GicpReal, IclNuimFrame0To2FromIdentityWithin7mmAnd03deg) {
   EXPECT_EQ(r.verdict, GicpVerdict::converged);
 }
 
+// The other pairs of the five frames, for the record (printed; loosely bounded).
+TEST(GicpReal, IclNuimFrame0ToOthersFromIdentity) {
+  const auto poses = read_icl_trajectory(kIcl + "trajectory.log");
+  ASSERT_GE(poses.size(), 5u);
+  ForkJoin team(2);
+  FramePreprocessor pre(icl_camera(), FramePreprocessor::Setting{}, team);
+  Frame f0;
+  load_icl(0, pre, f0);
+  Gicp gicp;
+  for (int j = 1; j < 5; ++j) {
+    Frame fj;
+    load_icl(j, pre, fj);
+    const geometry::Pose T_j_0_true = poses[static_cast<std::size_t>(j)].inverse() * poses[0];
+    const GicpResult r =
+        gicp.align(CloudTarget{&fj.cloud, &fj.tree}, f0.cloud, geometry::Pose::Identity());
+    const geometry::PoseError e = geometry::pose_error(T_j_0_true, r.T_t_s);
+    const geometry::PoseError motion = geometry::pose_error(geometry::Pose::Identity(), T_j_0_true);
+    std::printf("ICL 0->%d: |t err| %.2f mm, rot err %.3f deg (motion %.1f mm %.2f deg), %d it\n",
+                j, e.translation_m * 1e3, e.rotation_rad / kDeg, motion.translation_m * 1e3,
+                motion.rotation_rad / kDeg, r.iterations);
+    EXPECT_LT(e.translation_m, 0.01);
+    EXPECT_LT(e.rotation_rad, 0.5 * kDeg);
+  }
+}
+
 TEST(GicpReal, UHumans2FrameLoadsAndAlignsToItselfUnderKnownOffset) {
   const PinholeCamera cam{720, 480, 415.69219381653056, 415.69219381653056, 360.0, 240.0};
   const io::ImageF32 depth = io::read_depth_m(kUh + "depth_img_0.tiff", 1.0);

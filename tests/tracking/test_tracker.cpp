@@ -63,7 +63,8 @@ TEST_P(TrackerModes, IclSequenceTrackedAgainstLocalMap) {
       geometry::make_pose(Eigen::Vector3d(1.0, -1.0, 1.0).normalized() * 0.3 * kDeg,
                           Eigen::Vector3d(0.003, 0.004, 0.0));
   for (int i = 0; i < 5; ++i) {
-    const geometry::Pose imu = gt[static_cast<std::size_t>(i)] * perturb;  // IMU-quality guess
+    // IMU-quality guess; the first frame anchors the map at the true pose.
+    const geometry::Pose imu = i == 0 ? gt[0] : gt[static_cast<std::size_t>(i)] * perturb;
     const TrackingOutput out =
         tracker.track(i * 33'333'333LL, icl_frames()[static_cast<std::size_t>(i)].depth,
                       icl_frames()[static_cast<std::size_t>(i)].rgb, &imu);
@@ -81,7 +82,7 @@ TEST_P(TrackerModes, IclSequenceTrackedAgainstLocalMap) {
                 static_cast<int>(GetParam()), i, e.translation_m * 1e3, e.rotation_rad / kDeg,
                 out.gicp.iterations, out.gicp.overlap_ratio, out.keyframe ? ", keyframe" : "");
     EXPECT_LT(e.translation_m, 0.01) << "frame " << i;
-    EXPECT_LT(e.rotation_rad, 0.5 * kDeg) << "frame " << i;
+    EXPECT_LT(e.rotation_rad, 0.3 * kDeg) << "frame " << i;
   }
   EXPECT_GT(tracker.local_map().num_points(), 10000u);
   EXPECT_EQ(tracker.last_keyframe().cloud_c.size(), tracker.last_keyframe().cloud_c.cov_m2.size());

@@ -27,10 +27,10 @@ struct TrackingSettings {
   double translation_eps_m = 1e-3;  ///< ... and |d translation| is below this
   int num_threads = 2;              ///< fixed partition, fixed-order sum: bit-identical
   // Keyframes.
-  double keyframe_overlap_ratio = 0.9;        ///< new keyframe when overlap falls below
-  double keyframe_overlap_distance_m = 0.02;  ///< "close map neighbour" distance
-  double keyframe_translation_m = 0.3;        ///< or when moved farther than this
-  double keyframe_rotation_deg = 15.0;        ///< or turned more than this
+  double keyframe_overlap_ratio = 0.7;         ///< GS-ICP SLAM's keyframe_th
+  double keyframe_overlap_distance_m = 0.022;  ///< GS-ICP's overlapped_th 5e-4 m^2, as m
+  double keyframe_translation_m = 0.3;         ///< or when moved farther than this
+  double keyframe_rotation_deg = 15.0;         ///< or turned more than this
   // Local map.
   double local_map_voxel_m = 0.1;       ///< voxel edge of the local map hash
   int local_map_points_per_voxel = 20;  ///< per-voxel capacity
