@@ -7,6 +7,7 @@
 #include "core/config/imu_settings.hpp"
 #include "core/config/inertial_settings.hpp"
 #include "core/config/rt_settings.hpp"
+#include "core/config/tracking_settings.hpp"
 #include "core/config/visitor.hpp"
 
 namespace vigs::config {
@@ -21,6 +22,7 @@ struct RobotConfig {
   ExtrinsicsSettings extrinsics;
   DdsSettings dds;
   RtSettings rt;
+  TrackingSettings tracking;
 
   void visit(Visitor& v) {
     v.field("robot", robot, {}, "robot name, used in logs and status");
@@ -30,6 +32,7 @@ struct RobotConfig {
     v.section("extrinsics", extrinsics);
     v.section("dds", dds);
     v.section("rt", rt);
+    v.section("tracking", tracking);
   }
 };
 
