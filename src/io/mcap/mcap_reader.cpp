@@ -95,6 +95,11 @@ struct McapReader::Impl {
     crc_pos = std::max(crc_pos, end);
   }
   bool resync(std::uint64_t damaged_at);
+  bool is_indexed_chunk(std::uint64_t offset) const {
+    auto it = std::lower_bound(chunk_indexes.begin(), chunk_indexes.end(), offset,
+                               [](const auto& ci, std::uint64_t o) { return ci.chunk_offset < o; });
+    return it != chunk_indexes.end() && it->chunk_offset == offset;
+  }
   bool fill(const detail::MessageRecord& m, std::uint64_t offset, MessageView& out);
   bool next_in_chunk(MessageView& out);
   bool open_chunk(std::uint64_t offset, std::span<const std::uint8_t> body);
@@ -120,7 +125,13 @@ void McapReader::Impl::open_summary() {
     issue(ReadIssue::Kind::kCorrupt, footer_at, "malformed footer record");
     return;
   }
-  if (footer.summary_start == 0) return;  // valid file without a summary
+  if (footer.summary_start == 0) {  // valid file without a summary; the CRC covers the footer
+    if (options.verify_crcs && footer.summary_crc != 0 &&
+        crc32(file.subspan(footer_at, kRecordHeader + 16)) != footer.summary_crc) {
+      issue(ReadIssue::Kind::kCrcMismatch, footer_at, "footer CRC mismatch");
+    }
+    return;
+  }
   if (footer.summary_start < 8 || footer.summary_start > footer_at ||
       (footer.summary_offset_start != 0 && (footer.summary_offset_start < footer.summary_start ||
                                             footer.summary_offset_start > footer_at))) {
@@ -334,6 +345,12 @@ bool McapReader::Impl::step(MessageView& out) {
   }
   const std::uint64_t at = pos;
   const auto body = file.subspan(pos + kRecordHeader, n);
+  if (summary_ok && op != static_cast<std::uint8_t>(Opcode::kChunk) && is_indexed_chunk(at)) {
+    issue(ReadIssue::Kind::kCorrupt, at, "the index has a chunk here but the record is " + hex(op));
+    crc_valid = false;
+    pos = at + kRecordHeader + n;
+    return false;
+  }
   if (op == static_cast<std::uint8_t>(Opcode::kDataEnd)) {
     crc_to(at);
     std::uint32_t expected = 0;
