@@ -63,7 +63,11 @@ TEST_F(OniPlayback, EveryFrameAndPixelComesBackThroughOpenNI2) {
   openni::PlaybackControl* playback = device.getPlaybackControl();
   ASSERT_NE(playback, nullptr);
   ASSERT_EQ(playback->setSpeed(-1), openni::STATUS_OK);
-  ASSERT_EQ(playback->setRepeatEnabled(false), openni::STATUS_OK);
+  // Repeat stays on (the default). With repeat off, OpenNI2 2.2's player thread spins after the
+  // End record while iterating its stream list unlocked, and stream destruction at close() then
+  // crashes libOniFile now and then (seen 5 times in 40 runs here); with repeat on it parks
+  // waiting for the next manual trigger. The wrap-around below also checks the End record.
+  ASSERT_TRUE(playback->getRepeatEnabled());
 
   openni::VideoStream depth, color;
   ASSERT_EQ(depth.create(device, openni::SENSOR_DEPTH), openni::STATUS_OK)
@@ -106,6 +110,13 @@ TEST_F(OniPlayback, EveryFrameAndPixelComesBackThroughOpenNI2) {
     }
     EXPECT_EQ(bad, 0);
   }
+  // After the End record the clip starts over at frame 1.
+  openni::VideoFrameRef again;
+  ASSERT_TRUE(wait_for(depth));
+  ASSERT_EQ(depth.readFrame(&again), openni::STATUS_OK);
+  EXPECT_EQ(again.getFrameIndex(), 1);
+  EXPECT_EQ(static_cast<const std::uint16_t*>(again.getData())[kW + 1], depth_at(0, 1, 1));
+
   depth.stop();
   color.stop();
   depth.destroy();
