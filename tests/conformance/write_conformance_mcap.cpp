@@ -91,6 +91,16 @@ struct Json {
            xyz(m.pose.position.x, m.pose.position.y, m.pose.position.z) +
            ",\"orientation\":" + quat(m.pose.orientation) + "}}";
   }
+  std::string operator()(const ros_msgs::Odometry& m) const {
+    return "{\"header\":" + header(m.header) + ",\"child_frame_id\":" + str(m.child_frame_id) +
+           ",\"pose\":{\"pose\":{\"position\":" +
+           xyz(m.pose.position.x, m.pose.position.y, m.pose.position.z) +
+           ",\"orientation\":" + quat(m.pose.orientation) +
+           "},\"covariance\":" + arr(m.pose_covariance) + "},\"twist\":{\"twist\":{\"linear\":" +
+           xyz(m.linear_velocity.x, m.linear_velocity.y, m.linear_velocity.z) +
+           ",\"angular\":" + xyz(m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z) +
+           "},\"covariance\":" + arr(m.twist_covariance) + "}}";
+  }
   std::string operator()(const ros_msgs::SerialChunk& m) const {
     return "{\"stamp\":" + time(m.stamp) + ",\"port\":" + str(m.port) + ",\"data\":" + arr(m.data) +
            "}";
@@ -132,6 +142,7 @@ int main(int argc, char** argv) {
   const auto info =
       ros_msgs::add_channel<ros_msgs::CameraInfo>(w, "/tesse/left_cam/camera_info", e);
   const auto pose = ros_msgs::add_channel<ros_msgs::PoseStamped>(w, "/vigs/ground_truth", e);
+  const auto odom = ros_msgs::add_channel<ros_msgs::Odometry>(w, "/tesse/odom", e);
   const auto serial = ros_msgs::add_channel<ros_msgs::SerialChunk>(w, "/vigs/serial_imu", e);
   for (int i = 0; i < 4; ++i) {
     put(rgb, "/tesse/left_cam/rgb/image_raw", test::sample_image(i, false));
@@ -144,6 +155,7 @@ int main(int argc, char** argv) {
     if (i == 3) c.d.clear();
     put(info, "/tesse/left_cam/camera_info", c);
     put(pose, "/vigs/ground_truth", test::sample_pose(i));
+    put(odom, "/tesse/odom", test::sample_odometry(i));
     put(serial, "/vigs/serial_imu", test::sample_serial(i));
   }
   w.close();
