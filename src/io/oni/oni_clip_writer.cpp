@@ -33,7 +33,6 @@ enum RecordType : std::uint32_t {
   kNodeAdded = 0x0D,
 };
 constexpr std::uint32_t kRecordMagic = 0x0052494E;  // "NIR\0"
-constexpr std::uint32_t kHeaderSize = 28;
 constexpr std::int32_t kNodeTypeDepth = 2;
 constexpr std::int32_t kNodeTypeImage = 3;
 constexpr std::uint32_t kCodecUncompressed =
