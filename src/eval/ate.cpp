@@ -10,8 +10,8 @@ namespace vigs::eval {
 std::vector<IndexPair> associate_trajectories(const Trajectory& gt, const Trajectory& est,
                                               double max_dt_s, double offset_s) {
   if (gt.format != est.format) {
-    throw std::invalid_argument(gt.source + " is " + format_name(gt.format) + " but " +
-                                est.source + " is " + format_name(est.format) +
+    throw std::invalid_argument(gt.source + " is " + format_name(gt.format) + " but " + est.source +
+                                " is " + format_name(est.format) +
                                 ": KITTI files have no timestamps to associate with");
   }
   std::vector<double> ta, tb;

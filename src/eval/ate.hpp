@@ -19,12 +19,12 @@ struct AteOptions {
 
 struct AteResult {
   std::size_t pairs = 0;
-  ErrorStats stats;  ///< metres
-  Sim3 alignment;    ///< maps estimate positions into the ground-truth frame
-  std::vector<double> t_s;                 ///< ground-truth stamp of each pair
-  std::vector<double> error_m;             ///< per pair
-  std::vector<Eigen::Vector3d> p_gt_m;     ///< per pair
-  std::vector<Eigen::Vector3d> p_est_m;    ///< per pair, aligned
+  ErrorStats stats;                      ///< metres
+  Sim3 alignment;                        ///< maps estimate positions into the ground-truth frame
+  std::vector<double> t_s;               ///< ground-truth stamp of each pair
+  std::vector<double> error_m;           ///< per pair
+  std::vector<Eigen::Vector3d> p_gt_m;   ///< per pair
+  std::vector<Eigen::Vector3d> p_est_m;  ///< per pair, aligned
 };
 
 /// Throws std::invalid_argument when fewer than 3 pairs associate (or formats differ:

@@ -66,9 +66,8 @@ std::string rpe_json(const RpeResult& r, const RpeOptions& opt) {
   std::snprintf(head, sizeof head,
                 "{\"associated\": %zu, \"pairs\": %zu, \"delta\": %.17g, \"delta_unit\": \"%s\", "
                 "\"align\": \"%s\", \"scale\": %.17g, \"translation_m\": {",
-                r.associated, r.pairs, opt.delta,
-                opt.unit == DeltaUnit::kFrames ? "frames" : "m", alignment_name(opt.align),
-                r.scale);
+                r.associated, r.pairs, opt.delta, opt.unit == DeltaUnit::kFrames ? "frames" : "m",
+                alignment_name(opt.align), r.scale);
   return std::string(head) + stats_json_fields(r.translation_m) + "}, \"rotation_deg\": {" +
          stats_json_fields(r.rotation_deg) + "}}";
 }

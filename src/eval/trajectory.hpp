@@ -9,8 +9,8 @@
 namespace vigs::eval {
 
 struct TimedPose {
-  double t_s = 0.0;            ///< timestamp, s (KITTI files: the pose's line index)
-  geometry::Pose T_w_x;        ///< pose in the trajectory's world frame
+  double t_s = 0.0;      ///< timestamp, s (KITTI files: the pose's line index)
+  geometry::Pose T_w_x;  ///< pose in the trajectory's world frame
 };
 
 /// How a trajectory file was laid out.

@@ -14,13 +14,12 @@ namespace {
   throw TrajectoryFileError(name + ":" + std::to_string(line) + ": " + what);
 }
 
-std::vector<double> parse_numbers(const std::string& line, const std::string& name,
-                                  int line_no) {
+std::vector<double> parse_numbers(const std::string& line, const std::string& name, int line_no) {
   std::vector<double> out;
   std::size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == ',' ||
-                               line[i] == '\r')) {
+    while (i < line.size() &&
+           (line[i] == ' ' || line[i] == '\t' || line[i] == ',' || line[i] == '\r')) {
       ++i;
     }
     if (i >= line.size()) break;
@@ -34,8 +33,8 @@ std::vector<double> parse_numbers(const std::string& line, const std::string& na
     char* end = nullptr;
     const double value = std::strtod(token.c_str(), &end);
     if (end != token.c_str() + token.size() || errno == ERANGE) {
-      fail(name, line_no, "field " + std::to_string(out.size() + 1) + " '" + token +
-                              "' is not a number");
+      fail(name, line_no,
+           "field " + std::to_string(out.size() + 1) + " '" + token + "' is not a number");
     }
     if (!std::isfinite(value)) {
       fail(name, line_no, "field " + std::to_string(out.size() + 1) + " is not finite");
@@ -99,8 +98,8 @@ Trajectory parse_trajectory_text(const std::string& text, const std::string& nam
       R << f[0], f[1], f[2], f[4], f[5], f[6], f[8], f[9], f[10];
       const double orth = (R * R.transpose() - Eigen::Matrix3d::Identity()).norm();
       if (orth > 1e-3 || R.determinant() < 0.0) {
-        fail(name, line_no, "the 3x3 block is not a rotation (|R R^T - I| = " +
-                                std::to_string(orth) + ")");
+        fail(name, line_no,
+             "the 3x3 block is not a rotation (|R R^T - I| = " + std::to_string(orth) + ")");
       }
       p.T_w_x = geometry::Pose::Identity();
       // Re-orthonormalise: files store rotations rounded to a few digits.

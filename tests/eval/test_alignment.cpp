@@ -60,7 +60,7 @@ TEST(Umeyama, Se3OnScaledDataKeepsUnitScaleAndLeavesResidual) {
   for (std::size_t i = 0; i < d.from.size(); ++i) {
     worst = std::max(worst, (a.apply(d.from[i]) - d.to[i]).norm());
   }
-  EXPECT_GT(worst, 1.0);  // a rigid fit cannot absorb a factor 2
+  EXPECT_GT(worst, 1.0);                // a rigid fit cannot absorb a factor 2
   EXPECT_LT((a.R - d.R).norm(), 1e-9);  // but the rotation is still the right one
 }
 

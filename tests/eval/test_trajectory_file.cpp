@@ -16,8 +16,7 @@ std::string error_of(const std::string& text) {
 
 TEST(TrajectoryFile, ParsesTumWithCommentsAndBlankLines) {
   const auto t = parse_trajectory_text(
-      "# timestamp tx ty tz qx qy qz qw\n\n1.5 1 2 3 0 0 0 1\n2.5 1 2 4 0 0 1 0 # yaw 180\n",
-      "x");
+      "# timestamp tx ty tz qx qy qz qw\n\n1.5 1 2 3 0 0 0 1\n2.5 1 2 4 0 0 1 0 # yaw 180\n", "x");
   ASSERT_EQ(t.poses.size(), 2u);
   EXPECT_EQ(t.format, TrajectoryFormat::kTum);
   EXPECT_DOUBLE_EQ(t.poses[1].t_s, 2.5);
@@ -26,8 +25,7 @@ TEST(TrajectoryFile, ParsesTumWithCommentsAndBlankLines) {
 }
 
 TEST(TrajectoryFile, ParsesKittiWithLineIndexAsTime) {
-  const auto t = parse_trajectory_text(
-      "1 0 0 5 0 1 0 6 0 0 1 7\n0 -1 0 1 1 0 0 2 0 0 1 3\n", "k");
+  const auto t = parse_trajectory_text("1 0 0 5 0 1 0 6 0 0 1 7\n0 -1 0 1 1 0 0 2 0 0 1 3\n", "k");
   ASSERT_EQ(t.poses.size(), 2u);
   EXPECT_EQ(t.format, TrajectoryFormat::kKitti);
   EXPECT_DOUBLE_EQ(t.poses[1].t_s, 1.0);
@@ -45,8 +43,9 @@ TEST(TrajectoryFile, MalformedInputNamesFileAndLine) {
   EXPECT_EQ(error_of("1 0 0 0 0 0 0 0\n"), "traj.txt:1: quaternion (qx qy qz qw) has zero norm");
   EXPECT_EQ(error_of("2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"), "traj.txt:2: timestamp goes backwards");
   EXPECT_EQ(error_of("1 0 nan 0 0 0 0 1\n"), "traj.txt:1: field 3 is not finite");
-  EXPECT_NE(error_of("2 0 0 0 0 2 0 0 0 0 1 0\n").find("traj.txt:1: the 3x3 block is not a rotation"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of("2 0 0 0 0 2 0 0 0 0 1 0\n").find("traj.txt:1: the 3x3 block is not a rotation"),
+      std::string::npos);
   EXPECT_EQ(error_of("# only a comment\n"), "traj.txt: no poses in file");
   EXPECT_THROW(load_trajectory_file("/nonexistent/t.txt"), TrajectoryFileError);
 }

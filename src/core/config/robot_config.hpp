@@ -6,6 +6,7 @@
 #include "core/config/extrinsics_settings.hpp"
 #include "core/config/imu_settings.hpp"
 #include "core/config/rt_settings.hpp"
+#include "core/config/sim_settings.hpp"
 #include "core/config/visitor.hpp"
 
 namespace vigs::config {
@@ -19,6 +20,7 @@ struct RobotConfig {
   ExtrinsicsSettings extrinsics;
   DdsSettings dds;
   RtSettings rt;
+  SimSettings sim;
 
   void visit(Visitor& v) {
     v.field("robot", robot, {}, "robot name, used in logs and status");
@@ -27,6 +29,7 @@ struct RobotConfig {
     v.section("extrinsics", extrinsics);
     v.section("dds", dds);
     v.section("rt", rt);
+    v.section("sim", sim);
   }
 };
 
