@@ -10,5 +10,7 @@ struct ExitCode {
 };
 
 void add_config_command(CLI::App& app, ExitCode& exit_code);
+void add_simulate_command(CLI::App& app, ExitCode& exit_code);
+void add_eval_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps

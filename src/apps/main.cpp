@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
 
   vigs::apps::ExitCode exit_code;
   vigs::apps::add_config_command(app, exit_code);
+  vigs::apps::add_simulate_command(app, exit_code);
+  vigs::apps::add_eval_command(app, exit_code);
 
   CLI11_PARSE(app, argc, argv);
   return exit_code.value;

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstring>
@@ -61,7 +62,8 @@ TEST(Simulator, StreamsAtTheConfiguredRatesInTimeOrderAndDeterministically) {
 }
 
 TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
-  const std::string path = ::testing::TempDir() + "vigs_sim_test.mcap";
+  const std::string path =
+      ::testing::TempDir() + "vigs_sim_test_" + std::to_string(getpid()) + ".mcap";
   Simulator sim(one_second());
   McapSinkOptions opt;
   McapSink sink(path, opt);
