@@ -16,7 +16,8 @@ std::string error_of(const std::string& text) {
 
 TEST(TrajectoryFile, ParsesTumWithCommentsAndBlankLines) {
   const auto t = parse_trajectory_text(
-      "# timestamp tx ty tz qx qy qz qw\n\n1.5 1 2 3 0 0 0 1\n2.5 1 2 4 0 0 1 0 # yaw 180\n", "x");
+      "# timestamp tx ty tz qx qy qz qw\n\n1.5 1 2 3 0 0 0 1\n  # yaw 180:\n2.5 1 2 4 0 0 1 0\n",
+      "x");
   ASSERT_EQ(t.poses.size(), 2u);
   EXPECT_EQ(t.format, TrajectoryFormat::kTum);
   EXPECT_DOUBLE_EQ(t.poses[1].t_s, 2.5);
@@ -37,12 +38,17 @@ TEST(TrajectoryFile, MalformedInputNamesFileAndLine) {
             "traj.txt:1: expected 8 fields (TUM: t tx ty tz qx qy qz qw) or 12 (KITTI 3x4 pose), "
             "got 3");
   EXPECT_EQ(error_of("# c\n1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n"),
-            "traj.txt:3: expected 8 fields like the first data line (tum), got 7");
+            "traj.txt:3: 7 fields, expected 8 ('t tx ty tz qx qy qz qw')");
   EXPECT_EQ(error_of("1 0 0 0 0 0 0 1\n2 0 abc 0 0 0 0 1\n"),
-            "traj.txt:2: field 3 'abc' is not a number");
+            "traj.txt:2: field 3 'abc' is not a finite number");
   EXPECT_EQ(error_of("1 0 0 0 0 0 0 0\n"), "traj.txt:1: quaternion (qx qy qz qw) has zero norm");
-  EXPECT_EQ(error_of("2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"), "traj.txt:2: timestamp goes backwards");
-  EXPECT_EQ(error_of("1 0 nan 0 0 0 0 1\n"), "traj.txt:1: field 3 is not finite");
+  EXPECT_EQ(error_of("2 0 0 0 0 0 0 1\n# c\n1 0 0 0 0 0 0 1\n"),
+            "traj.txt:3: timestamp goes backwards");
+  EXPECT_EQ(error_of("1 0 nan 0 0 0 0 1\n"), "traj.txt:1: field 3 'nan' is not a finite number");
+  EXPECT_EQ(error_of("1 0 0 0 0 1 0 0 0 0 1 0\n1 0 x 0 0 1 0 0 0 0 1 0\n"),
+            "traj.txt:2: field 3 'x' is not a number");
+  EXPECT_EQ(error_of("1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1\n"),
+            "traj.txt:2: expected 12 fields like the first data line (kitti), got 11");
   EXPECT_NE(
       error_of("2 0 0 0 0 2 0 0 0 0 1 0\n").find("traj.txt:1: the 3x3 block is not a rotation"),
       std::string::npos);
