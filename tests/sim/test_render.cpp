@@ -42,6 +42,8 @@ TEST(Bvh, ClosestHitMatchesBruteForce) {
 
 /// Back-projects every 5th pixel of a noise-free frame and measures how far the point lies from
 /// the nearest scene surface (static boxes, floor, ceiling, or a person at that instant).
+/// Measured: below 2e-5 m (single-precision casting). The 1e-4 m bound still catches a
+/// half-pixel convention error, which puts points ~1 mm off oblique walls at 1 m.
 TEST(Render, NoiseFreeDepthBackProjectsOntoTheSceneSurfaces) {
   config::RobotConfig cfg = test_config(60, 3);
   cfg.sim.preset = "apartment";  // small: the brute-force distance check stays quick
@@ -64,7 +66,7 @@ TEST(Render, NoiseFreeDepthBackProjectsOntoTheSceneSurfaces) {
                        static_cast<float>(p.z())};
         const float d_static = clean.distance_to_static_surface(pw);
         const float d_people = people.distance_to_surface(pw);
-        EXPECT_LT(std::min(d_static, d_people), 2e-3f) << u << "," << v << " t=" << t;
+        EXPECT_LT(std::min(d_static, d_people), 1e-4f) << u << "," << v << " t=" << t;
         on_people += d_people < d_static;
         ++checked;
       }
