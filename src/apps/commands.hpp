@@ -15,5 +15,7 @@ void add_imu_command(CLI::App& app, ExitCode& exit_code);
 void add_eval_imu_command(CLI::App& app, ExitCode& exit_code);
 void add_align_command(CLI::App& app, ExitCode& exit_code);
 void add_mcap_command(CLI::App& app, ExitCode& exit_code);
+void add_simulate_command(CLI::App& app, ExitCode& exit_code);
+void add_eval_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps

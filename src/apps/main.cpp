@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   vigs::apps::add_eval_imu_command(app, exit_code);
   vigs::apps::add_align_command(app, exit_code);
   vigs::apps::add_mcap_command(app, exit_code);
+  vigs::apps::add_simulate_command(app, exit_code);
+  vigs::apps::add_eval_command(app, exit_code);
 
   CLI11_PARSE(app, argc, argv);
   return exit_code.value;

@@ -8,6 +8,7 @@
 #include "core/config/inertial_settings.hpp"
 #include "core/config/rt_settings.hpp"
 #include "core/config/tracking_settings.hpp"
+#include "core/config/sim_settings.hpp"
 #include "core/config/visitor.hpp"
 
 namespace vigs::config {
@@ -23,6 +24,7 @@ struct RobotConfig {
   DdsSettings dds;
   RtSettings rt;
   TrackingSettings tracking;
+  SimSettings sim;
 
   void visit(Visitor& v) {
     v.field("robot", robot, {}, "robot name, used in logs and status");
@@ -33,6 +35,7 @@ struct RobotConfig {
     v.section("dds", dds);
     v.section("rt", rt);
     v.section("tracking", tracking);
+    v.section("sim", sim);
   }
 };
 
