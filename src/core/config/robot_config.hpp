@@ -5,6 +5,7 @@
 #include "core/config/dds_settings.hpp"
 #include "core/config/extrinsics_settings.hpp"
 #include "core/config/imu_settings.hpp"
+#include "core/config/mapping_settings.hpp"
 #include "core/config/rt_settings.hpp"
 #include "core/config/visitor.hpp"
 
@@ -19,6 +20,7 @@ struct RobotConfig {
   ExtrinsicsSettings extrinsics;
   DdsSettings dds;
   RtSettings rt;
+  MappingSettings mapping;
 
   void visit(Visitor& v) {
     v.field("robot", robot, {}, "robot name, used in logs and status");
@@ -27,6 +29,7 @@ struct RobotConfig {
     v.section("extrinsics", extrinsics);
     v.section("dds", dds);
     v.section("rt", rt);
+    v.section("mapping", mapping);
   }
 };
 
