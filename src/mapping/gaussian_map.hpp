@@ -45,11 +45,15 @@ struct GaussianParams {
 
   /// Appends one Gaussian; `quat` is w x y z.
   void push_back(const T mean[3], const T log_s[3], const T quat[4], T logit, const T rgb[3]) {
-    mean_w.insert(mean_w.end(), mean, mean + 3);
-    log_scale.insert(log_scale.end(), log_s, log_s + 3);
-    quat_wxyz.insert(quat_wxyz.end(), quat, quat + 4);
-    opacity_logit.push_back(logit);
-    color_rgb.insert(color_rgb.end(), rgb, rgb + 3);
+    const std::size_t i = size();
+    resize(i + 1);
+    for (std::size_t k = 0; k < 3; ++k) {
+      mean_w[3 * i + k] = mean[k];
+      log_scale[3 * i + k] = log_s[k];
+      color_rgb[3 * i + k] = rgb[k];
+    }
+    for (std::size_t k = 0; k < 4; ++k) quat_wxyz[4 * i + k] = quat[k];
+    opacity_logit[i] = logit;
   }
 
   /// Keeps the Gaussians whose `keep[i]` is true, in order.
