@@ -10,5 +10,8 @@ struct ExitCode {
 };
 
 void add_config_command(CLI::App& app, ExitCode& exit_code);
+void add_eval_image_command(CLI::App& app, ExitCode& exit_code);
+void add_render_command(CLI::App& app, ExitCode& exit_code);
+void add_map_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps
