@@ -39,6 +39,23 @@ void Adam::grow(std::size_t n) {
   zero_tail(v_);
 }
 
+Adam::Coeffs Adam::begin_step() {
+  ++step_;
+  const double bc1 = 1.0 - std::pow(s_.beta1, static_cast<double>(step_));
+  const double bc2 = 1.0 - std::pow(s_.beta2, static_cast<double>(step_));
+  Coeffs c;
+  c.b1 = static_cast<float>(s_.beta1);
+  c.b2 = static_cast<float>(s_.beta2);
+  c.inv_sqrt_bc2 = static_cast<float>(1.0 / std::sqrt(bc2));
+  c.eps = static_cast<float>(s_.eps);
+  c.step_mean = static_cast<float>(s_.lr_mean / bc1);
+  c.step_log_scale = static_cast<float>(s_.lr_log_scale / bc1);
+  c.step_quat = static_cast<float>(s_.lr_quat / bc1);
+  c.step_opacity = static_cast<float>(s_.lr_opacity / bc1);
+  c.step_color = static_cast<float>(s_.lr_color / bc1);
+  return c;
+}
+
 void Adam::step(GaussianMap& params, const GaussianMap& grad) {
   grow(params.size());
   ++step_;

@@ -5,7 +5,8 @@
 namespace vigs::mapping {
 
 template <class T>
-PhotometricLoss<T>::PhotometricLoss(LossSettings s) : s_(s), ssim_(SsimOptions{}) {}
+PhotometricLoss<T>::PhotometricLoss(LossSettings s, WorkerPool* pool)
+    : s_(s), ssim_(SsimOptions{}, pool) {}
 
 template <class T>
 LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* target_rgb,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace vigs::mapping {
 
@@ -32,7 +33,7 @@ AdamSettings adam_settings_from(const config::MappingSettings& s) {
 MapOptimizer::MapOptimizer(const config::MappingSettings& s, WorkerPool* pool)
     : s_(s),
       raster_(RasterSettings{}, pool),
-      loss_(LossSettings{s.lambda_ssim, s.lambda_depth}),
+      loss_(LossSettings{s.lambda_ssim, s.lambda_depth}, pool),
       adam_(adam_settings_from(s)) {}
 
 LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& view,
@@ -43,9 +44,14 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
   v_depth_.resize(np);
   const LossTerms<float> terms =
       loss_.evaluate(render_, view.rgb, view.depth_m, v_color_.data(), v_depth_.data());
-  raster_.backward(map, view.camera, render_, v_color_.data(),
-                   view.depth_m ? v_depth_.data() : nullptr, nullptr, grad_);
-  adam_.step(map, grad_);
+  raster_.accumulate_gradients(map, view.camera, render_, v_color_.data(),
+                               view.depth_m ? v_depth_.data() : nullptr, nullptr);
+  // fused: each Gaussian's gradient goes straight into its Adam update, no gradient copy
+  adam_.step_fused(
+      map, [&](std::size_t i, float* g) { raster_.gaussian_gradient(map, view.camera, i, g); },
+      [&](std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn) {
+        raster_.for_ranges(n, fn);
+      });
   ++iterations_;
   std::size_t removed = 0;
   if (s_.prune_every > 0 && iterations_ % s_.prune_every == 0) removed = prune(map);
@@ -66,7 +72,7 @@ double MapOptimizer::bytes_per_gaussian(const GaussianMap& map) const {
             a.opacity_logit.capacity() + a.color_rgb.capacity()) *
            sizeof(float);
   };
-  const std::size_t bytes = cap(map) + cap(grad_) + adam_.bytes() + raster_.cache_bytes();
+  const std::size_t bytes = cap(map) + adam_.bytes() + raster_.cache_bytes();
   return static_cast<double>(bytes) / static_cast<double>(map.size());
 }
 

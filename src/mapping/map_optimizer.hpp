@@ -1,8 +1,9 @@
 #pragma once
 // One optimisation iteration of the map against one posed RGB-D view: project, render, loss
 // (L1 + SSIM + depth), backward, Adam; pruning of transparent and oversized Gaussians every N
-// iterations. Memory per Gaussian (parameters, gradients, Adam moments, rasterizer caches) is
-// reported by bytes_per_gaussian().
+// iterations. Gradients go straight from the rasterizer into Adam per Gaussian (no gradient copy
+// of the map). Memory per Gaussian (parameters, Adam moments, rasterizer caches including the
+// per-thread gradient buffers and tile lists) is reported by bytes_per_gaussian().
 #include <cstddef>
 #include <vector>
 
@@ -53,7 +54,6 @@ class MapOptimizer {
   PhotometricLoss<float> loss_;
   Adam adam_;
   RenderResult<float> render_;
-  GaussianMap grad_;
   std::vector<float> v_color_, v_depth_;
   long iterations_ = 0;
 };

@@ -66,7 +66,10 @@ void forward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int 
         const __m256 cross =
             _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(g.cb), dx), _mm256_set1_ps(dy));
         const __m256 sigma = _mm256_add_ps(_mm256_mul_ps(half, sum), cross);
-        __m256 valid = _mm256_cmp_ps(sigma, zero, _CMP_GE_OQ);
+        __m256 valid = _mm256_and_ps(_mm256_cmp_ps(sigma, zero, _CMP_GE_OQ),
+                                     _mm256_cmp_ps(sigma, _mm256_set1_ps(g.sigma_cut), _CMP_LE_OQ));
+        valid = _mm256_andnot_ps(done, valid);
+        if (_mm256_movemask_ps(valid) == 0) continue;
         const __m256 vis = exp_neg_ps(_mm256_sub_ps(zero, sigma));
         const __m256 alpha =
             _mm256_min_ps(max_alpha, _mm256_mul_ps(_mm256_set1_ps(g.opacity), vis));

@@ -133,6 +133,7 @@ void Rasterizer<T>::gather_tile(int tile, std::vector<TileGaussian<T>>& buf,
     tg.g = g.color_rgb[3 * i + 1];
     tg.b = g.color_rgb[3 * i + 2];
     tg.z = proj_.depth[i];
+    tg.sigma_cut = sigma_cutoff(tg.opacity, settings_.min_alpha);
   }
 }
 
@@ -175,9 +176,9 @@ void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
 }
 
 template <class T>
-void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam,
-                             const RenderResult<T>& out, const T* v_color, const T* v_depth,
-                             const T* v_alpha, GaussianParams<T>& grad) {
+void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const RenderCamera& cam,
+                                         const RenderResult<T>& out, const T* v_color,
+                                         const T* v_depth, const T* v_alpha) {
   const std::size_t n = g.size();
   const int nt = threads();
   const int n_tiles = tiles_x_ * tiles_y_;
@@ -213,24 +214,54 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
       }
     }
   });
-  grad.assign_zero(n);
-  const T eps = T(settings_.eps2d_px2);
+}
+
+template <class T>
+void Rasterizer<T>::gaussian_gradient(const GaussianParams<T>& g, const RenderCamera& cam,
+                                      std::size_t i, T out[kParamGrads]) const {
+  for (int k = 0; k < kParamGrads; ++k) out[k] = T(0);
+  if (proj_.radius[i] == 0) return;
+  T v[kGradPerGaussian] = {};
+  for (const auto& buf : thread_grad_) {
+    const T* a = &buf[kGradPerGaussian * i];
+    for (int k = 0; k < kGradPerGaussian; ++k) v[k] += a[k];
+  }
+  project_gaussian_vjp(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i],
+                       T(settings_.eps2d_px2), &v[0], &v[2], v[9], &out[0], &out[3], &out[6]);
+  const T op = proj_.opacity[i];
+  out[10] = v[5] * op * (T(1) - op);
+  for (int k = 0; k < 3; ++k) out[11 + k] = v[6 + k];
+}
+
+template <class T>
+void Rasterizer<T>::for_ranges(std::size_t n,
+                               const std::function<void(std::size_t, std::size_t)>& fn) {
+  const int nt = threads();
   run([&](int t) {
     std::size_t b, e;
     split(n, nt, t, b, e);
+    fn(b, e);
+  });
+}
+
+template <class T>
+void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam,
+                             const RenderResult<T>& out, const T* v_color, const T* v_depth,
+                             const T* v_alpha, GaussianParams<T>& grad) {
+  accumulate_gradients(g, cam, out, v_color, v_depth, v_alpha);
+  const std::size_t n = g.size();
+  grad.assign_zero(n);
+  for_ranges(n, [&](std::size_t b, std::size_t e) {
+    T v[kParamGrads];
     for (std::size_t i = b; i < e; ++i) {
-      if (proj_.radius[i] == 0) continue;
-      T v[kGradPerGaussian] = {};
-      for (int th = 0; th < nt; ++th) {
-        const T* a = &thread_grad_[static_cast<std::size_t>(th)][kGradPerGaussian * i];
-        for (int k = 0; k < kGradPerGaussian; ++k) v[k] += a[k];
+      gaussian_gradient(g, cam, i, v);
+      for (int k = 0; k < 3; ++k) {
+        grad.mean_w[3 * i + k] = v[k];
+        grad.log_scale[3 * i + k] = v[3 + k];
+        grad.color_rgb[3 * i + k] = v[11 + k];
       }
-      const T op = proj_.opacity[i];
-      grad.opacity_logit[i] = v[5] * op * (T(1) - op);
-      for (int k = 0; k < 3; ++k) grad.color_rgb[3 * i + k] = v[6 + k];
-      project_gaussian_vjp(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i], eps,
-                           &v[0], &v[2], v[9], &grad.mean_w[3 * i], &grad.log_scale[3 * i],
-                           &grad.quat_wxyz[4 * i]);
+      for (int k = 0; k < 4; ++k) grad.quat_wxyz[4 * i + k] = v[6 + k];
+      grad.opacity_logit[i] = v[10];
     }
   });
 }

@@ -53,6 +53,20 @@ class Rasterizer {
   void backward(const GaussianParams<T>& g, const RenderCamera& cam, const RenderResult<T>& out,
                 const T* v_color, const T* v_depth, const T* v_alpha, GaussianParams<T>& grad);
 
+  /// The two halves of backward() for fused optimisers. accumulate_gradients() runs the
+  /// per-pixel reverse pass; gaussian_gradient() then gives Gaussian i's parameter gradients in
+  /// the order mean (3), log-scale (3), quaternion (4), opacity logit, colour (3); zeros when it
+  /// was culled. gaussian_gradient() only reads, so threads may call it for different i.
+  static constexpr int kParamGrads = 14;
+  void accumulate_gradients(const GaussianParams<T>& g, const RenderCamera& cam,
+                            const RenderResult<T>& out, const T* v_color, const T* v_depth,
+                            const T* v_alpha);
+  void gaussian_gradient(const GaussianParams<T>& g, const RenderCamera& cam, std::size_t i,
+                         T out[kParamGrads]) const;
+
+  /// Runs fn(begin, end) over a static split of [0, n) on the rasterizer's threads.
+  void for_ranges(std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn);
+
   [[nodiscard]] const Projection<T>& projection() const { return proj_; }
   [[nodiscard]] std::size_t tile_pairs() const { return tile_ids_.size(); }
   /// Bytes held per Gaussian by this rasterizer's caches (projection, per-thread gradient

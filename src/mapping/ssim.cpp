@@ -26,70 +26,21 @@ std::vector<double> ssim_window_1d(SsimWindow w) {
 }
 
 template <class T>
-Ssim<T>::Ssim(SsimOptions options) : opt_(options) {
+Ssim<T>::Ssim(SsimOptions options, WorkerPool* pool) : opt_(options), pool_(pool) {
   const auto w = ssim_window_1d(options.window);
   win_.assign(w.begin(), w.end());
 }
 
-namespace {
-
-/// Valid separable correlation of `n_maps` planes (each h x w, contiguous) into hv x wv.
 template <class T>
-void filter_valid(const T* in, int n_maps, int w, int h, const std::vector<T>& win, T* tmp,
-                  T* out) {
-  const int K = static_cast<int>(win.size());
-  const int wv = w - K + 1, hv = h - K + 1;
-  for (int m = 0; m < n_maps; ++m) {
-    const T* src = in + static_cast<std::size_t>(m) * w * h;
-    for (int y = 0; y < h; ++y) {
-      T* row = tmp + static_cast<std::size_t>(y) * wv;
-      const T* s = src + static_cast<std::size_t>(y) * w;
-      for (int x = 0; x < wv; ++x) row[x] = 0;
-      for (int k = 0; k < K; ++k) {
-        const T c = win[static_cast<std::size_t>(k)];
-        for (int x = 0; x < wv; ++x) row[x] += c * s[x + k];
-      }
-    }
-    T* dst = out + static_cast<std::size_t>(m) * wv * hv;
-    for (int y = 0; y < hv; ++y) {
-      T* row = dst + static_cast<std::size_t>(y) * wv;
-      for (int x = 0; x < wv; ++x) row[x] = 0;
-      for (int k = 0; k < K; ++k) {
-        const T c = win[static_cast<std::size_t>(k)];
-        const T* s = tmp + static_cast<std::size_t>(y + k) * wv;
-        for (int x = 0; x < wv; ++x) row[x] += c * s[x];
-      }
-    }
+void Ssim<T>::for_rows(int rows, const std::function<void(int, int, int)>& fn) {
+  const int nt = pool_ ? pool_->threads() : 1;
+  auto body = [&](int t) { fn(t, rows * t / nt, rows * (t + 1) / nt); };
+  if (pool_) {
+    pool_->run(body);
+  } else {
+    body(0);
   }
 }
-
-/// Transpose of filter_valid for one plane: hv x wv -> h x w (accumulated into out).
-template <class T>
-void filter_valid_transposed(const T* in, int w, int h, const std::vector<T>& win, T* tmp, T* out) {
-  const int K = static_cast<int>(win.size());
-  const int wv = w - K + 1, hv = h - K + 1;
-  // vertical: tmp (h x wv)
-  for (std::size_t i = 0; i < static_cast<std::size_t>(h) * wv; ++i) tmp[i] = 0;
-  for (int y = 0; y < hv; ++y) {
-    const T* s = in + static_cast<std::size_t>(y) * wv;
-    for (int k = 0; k < K; ++k) {
-      const T c = win[static_cast<std::size_t>(k)];
-      T* row = tmp + static_cast<std::size_t>(y + k) * wv;
-      for (int x = 0; x < wv; ++x) row[x] += c * s[x];
-    }
-  }
-  // horizontal: out (h x w)
-  for (int y = 0; y < h; ++y) {
-    const T* s = tmp + static_cast<std::size_t>(y) * wv;
-    T* row = out + static_cast<std::size_t>(y) * w;
-    for (int k = 0; k < K; ++k) {
-      const T c = win[static_cast<std::size_t>(k)];
-      for (int x = 0; x < wv; ++x) row[x + k] += c * s[x];
-    }
-  }
-}
-
-}  // namespace
 
 template <class T>
 T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask,
@@ -97,85 +48,141 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
   const int K = static_cast<int>(win_.size());
   if (width < K || height < K) throw std::invalid_argument("SSIM: image smaller than the window");
   const int wv = width - K + 1, hv = height - K + 1, half = K / 2;
-  const std::size_t np = static_cast<std::size_t>(width) * height;
-  const std::size_t nv = static_cast<std::size_t>(wv) * hv;
+  const std::size_t w = static_cast<std::size_t>(width);
+  const std::size_t np = w * static_cast<std::size_t>(height);
+  const std::size_t nh = static_cast<std::size_t>(height) * static_cast<std::size_t>(wv);
+  const std::size_t nv = static_cast<std::size_t>(wv) * static_cast<std::size_t>(hv);
   const T L = T(opt_.data_range);
   const T C1 = (T(0.01) * L) * (T(0.01) * L), C2 = (T(0.03) * L) * (T(0.03) * L);
   const T cn = opt_.sample_covariance ? T(K * K) / T(K * K - 1) : T(1);
-  // position weights: 1 where the window centre is unmasked
+  auto centre_on = [&](int yy, int xx) {
+    return !mask ||
+           mask[static_cast<std::size_t>(yy + half) * w + static_cast<std::size_t>(xx + half)] >
+               T(0);
+  };
   std::size_t n_valid = 0;
   for (int yy = 0; yy < hv; ++yy)
-    for (int xx = 0; xx < wv; ++xx)
-      if (!mask || mask[static_cast<std::size_t>(yy + half) * width + xx + half] > T(0)) ++n_valid;
-  if (grad_x) {
-    for (std::size_t i = 0; i < np * channels; ++i) grad_x[i] = 0;
-  }
+    for (int xx = 0; xx < wv; ++xx) n_valid += centre_on(yy, xx) ? 1 : 0;
+  if (grad_x)
+    for (std::size_t i = 0; i < np * static_cast<std::size_t>(channels); ++i) grad_x[i] = 0;
   if (n_valid == 0) return T(1);
   const T inv_n = T(1) / (T(n_valid) * T(channels));
-  xs_.resize(5 * np);
-  tmp_.resize(static_cast<std::size_t>(height) * wv);
+  const int nt = pool_ ? pool_->threads() : 1;
+  tmp_.resize(5 * nh);
   maps_.resize(5 * nv);
-  if (grad_x) {
-    g_.resize(3 * nv);
-    back_.resize(np);
+  if (grad_x) g_.resize(3 * nv);
+  partial_.assign(static_cast<std::size_t>(nt) * static_cast<std::size_t>(channels), 0.0);
+  const T* win = win_.data();
+  const std::size_t cs = static_cast<std::size_t>(channels);
+  for (int c = 0; c < channels; ++c) {
+    // horizontal pass of x, y, xx, yy, xy straight from the interleaved input: tmp (5 x h x wv)
+    for_rows(height, [&](int, int r0, int r1) {
+      for (int r = r0; r < r1; ++r) {
+        const T* xr = x + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
+        const T* yr = y + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
+        T* o[5];
+        for (int m = 0; m < 5; ++m)
+          o[m] = tmp_.data() + static_cast<std::size_t>(m) * nh +
+                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+        for (int xx = 0; xx < wv; ++xx) {
+          T s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0;
+          for (int k = 0; k < K; ++k) {
+            const T a = xr[static_cast<std::size_t>(xx + k) * cs],
+                    b = yr[static_cast<std::size_t>(xx + k) * cs];
+            const T wk = win[k];
+            s0 += wk * a;
+            s1 += wk * b;
+            s2 += wk * a * a;
+            s3 += wk * b * b;
+            s4 += wk * a * b;
+          }
+          o[0][xx] = s0;
+          o[1][xx] = s1;
+          o[2][xx] = s2;
+          o[3][xx] = s3;
+          o[4][xx] = s4;
+        }
+      }
+    });
+    // vertical pass, then the SSIM map and its partial derivatives
+    for_rows(hv, [&](int t, int r0, int r1) {
+      double sum = 0;
+      for (int r = r0; r < r1; ++r) {
+        for (int m = 0; m < 5; ++m) {
+          T* o = maps_.data() + static_cast<std::size_t>(m) * nv +
+                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+          const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh;
+          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
+          for (int k = 0; k < K; ++k) {
+            const T* s = src + static_cast<std::size_t>(r + k) * static_cast<std::size_t>(wv);
+            const T wk = win[k];
+            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * s[xx];
+          }
+        }
+        for (int xx = 0; xx < wv; ++xx) {
+          const std::size_t p = static_cast<std::size_t>(r) * static_cast<std::size_t>(wv) +
+                                static_cast<std::size_t>(xx);
+          const bool on = centre_on(r, xx);
+          const T ux = maps_[p], uy = maps_[nv + p];
+          const T vx = cn * (maps_[2 * nv + p] - ux * ux), vy = cn * (maps_[3 * nv + p] - uy * uy);
+          const T vxy = cn * (maps_[4 * nv + p] - ux * uy);
+          const T N1 = T(2) * ux * uy + C1, N2 = T(2) * vxy + C2;
+          const T D1 = ux * ux + uy * uy + C1, D2 = vx + vy + C2;
+          const T S = (N1 * N2) / (D1 * D2);
+          if (on) sum += static_cast<double>(S);
+          if (grad_x) {
+            const T wgt = on ? inv_n : T(0);
+            g_[p] = wgt * S *
+                    (T(2) * uy / N1 - T(2) * cn * uy / N2 - T(2) * ux / D1 + T(2) * cn * ux / D2);
+            g_[nv + p] = wgt * (-S * cn / D2);
+            g_[2 * nv + p] = wgt * (S * T(2) * cn / N2);
+          }
+        }
+      }
+      partial_[static_cast<std::size_t>(t) * cs + static_cast<std::size_t>(c)] = sum;
+    });
+    if (!grad_x) continue;
+    // transposed filters as gathers: vertical into tmp (3 x h x wv), then horizontal per row;
+    // dL/dx_q = (W^T g_mu)_q + 2 x_q (W^T g_xx)_q + y_q (W^T g_xy)_q
+    for_rows(height, [&](int, int r0, int r1) {
+      for (int r = r0; r < r1; ++r) {
+        for (int m = 0; m < 3; ++m) {
+          T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
+                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
+          for (int k = 0; k < K; ++k) {
+            const int src_row = r - k;
+            if (src_row < 0 || src_row >= hv) continue;
+            const T* s = g_.data() + static_cast<std::size_t>(m) * nv +
+                         static_cast<std::size_t>(src_row) * static_cast<std::size_t>(wv);
+            const T wk = win[k];
+            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * s[xx];
+          }
+        }
+        const T* t0 = tmp_.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+        const T* t1 = t0 + nh;
+        const T* t2 = t1 + nh;
+        for (int q = 0; q < width; ++q) {
+          T b0 = 0, b1 = 0, b2 = 0;
+          const int k_lo = q - wv + 1 > 0 ? q - wv + 1 : 0, k_hi = q < K - 1 ? q : K - 1;
+          for (int k = k_lo; k <= k_hi; ++k) {
+            const T wk = win[k];
+            b0 += wk * t0[q - k];
+            b1 += wk * t1[q - k];
+            b2 += wk * t2[q - k];
+          }
+          const std::size_t i =
+              (static_cast<std::size_t>(r) * w + static_cast<std::size_t>(q)) * cs +
+              static_cast<std::size_t>(c);
+          grad_x[i] = b0 + T(2) * x[i] * b1 + y[i] * b2;
+        }
+      }
+    });
   }
   double total = 0;
-  for (int c = 0; c < channels; ++c) {
-    T* px = xs_.data();
-    T* py = px + np;
-    T* pxx = py + np;
-    T* pyy = pxx + np;
-    T* pxy = pyy + np;
-    for (std::size_t i = 0; i < np; ++i) {
-      const T a = x[i * channels + c], b = y[i * channels + c];
-      px[i] = a;
-      py[i] = b;
-      pxx[i] = a * a;
-      pyy[i] = b * b;
-      pxy[i] = a * b;
-    }
-    filter_valid(xs_.data(), 5, width, height, win_, tmp_.data(), maps_.data());
-    const T* mx = maps_.data();
-    const T* my = mx + nv;
-    const T* exx = my + nv;
-    const T* eyy = exx + nv;
-    const T* exy = eyy + nv;
-    T* g_mu = grad_x ? g_.data() : nullptr;
-    T* g_xx = grad_x ? g_.data() + nv : nullptr;
-    T* g_xy = grad_x ? g_.data() + 2 * nv : nullptr;
-    for (int yy = 0; yy < hv; ++yy) {
-      for (int xx = 0; xx < wv; ++xx) {
-        const std::size_t p = static_cast<std::size_t>(yy) * wv + xx;
-        const bool on =
-            !mask || mask[static_cast<std::size_t>(yy + half) * width + xx + half] > T(0);
-        const T ux = mx[p], uy = my[p];
-        const T vx = cn * (exx[p] - ux * ux), vy = cn * (eyy[p] - uy * uy);
-        const T vxy = cn * (exy[p] - ux * uy);
-        const T N1 = T(2) * ux * uy + C1, N2 = T(2) * vxy + C2;
-        const T D1 = ux * ux + uy * uy + C1, D2 = vx + vy + C2;
-        const T S = (N1 * N2) / (D1 * D2);
-        if (on) total += static_cast<double>(S);
-        if (grad_x) {
-          const T wgt = on ? inv_n : T(0);
-          g_mu[p] = wgt * S *
-                    (T(2) * uy / N1 - T(2) * cn * uy / N2 - T(2) * ux / D1 + T(2) * cn * ux / D2);
-          g_xx[p] = wgt * (-S * cn / D2);
-          g_xy[p] = wgt * (S * T(2) * cn / N2);
-        }
-      }
-    }
-    if (grad_x) {
-      // dL/dx_q = (W^T g_mu)_q + 2 x_q (W^T g_xx)_q + y_q (W^T g_xy)_q
-      for (int m = 0; m < 3; ++m) {
-        for (std::size_t i = 0; i < np; ++i) back_[i] = 0;
-        filter_valid_transposed(g_.data() + m * nv, width, height, win_, tmp_.data(), back_.data());
-        for (std::size_t i = 0; i < np; ++i) {
-          const T f = m == 0 ? T(1) : (m == 1 ? T(2) * px[i] : py[i]);
-          grad_x[i * channels + c] += f * back_[i];
-        }
-      }
-    }
-  }
+  for (int c = 0; c < channels; ++c)
+    for (int t = 0; t < nt; ++t)
+      total += partial_[static_cast<std::size_t>(t) * cs + static_cast<std::size_t>(c)];
   return T(total / (static_cast<double>(n_valid) * channels));
 }
 

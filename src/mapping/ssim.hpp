@@ -4,8 +4,11 @@
 // published conventions the same computation: scikit-image's 7x7 uniform window with a 3-pixel
 // crop (sample covariance), its 11x11 Gaussian with a 5-pixel crop (population covariance) and
 // pytorch-msssim's valid 11x11 Gaussian (sigma 1.5).
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "mapping/worker_pool.hpp"
 
 namespace vigs::mapping {
 
@@ -29,15 +32,20 @@ std::vector<double> ssim_window_1d(SsimWindow w);
 template <class T>
 class Ssim {
  public:
-  explicit Ssim(SsimOptions options = {});
+  /// `pool` (may be null) splits rows across threads; it must outlive this object.
+  explicit Ssim(SsimOptions options = {}, WorkerPool* pool = nullptr);
 
   /// Returns mean SSIM; when grad_x is not null it receives d(mean SSIM)/dx (w*h*channels).
   T evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask, T* grad_x);
 
  private:
+  void for_rows(int rows, const std::function<void(int, int, int)>& fn);
+
   SsimOptions opt_;
+  WorkerPool* pool_;
   std::vector<T> win_;
-  std::vector<T> xs_, ys_, tmp_, maps_, g_, back_;
+  std::vector<T> tmp_, maps_, g_;
+  std::vector<double> partial_;
 };
 
 extern template class Ssim<float>;

@@ -15,7 +15,14 @@ struct TileGaussian {
   T opacity;     ///< sigmoid(logit)
   T r, g, b;     ///< colour
   T z;           ///< depth, metres
+  T sigma_cut;   ///< alpha < min_alpha exactly when sigma > sigma_cut: skips exp far away
 };
+
+/// ln(opacity / min_alpha), or a bound past which exp underflows when min_alpha is 0.
+template <class T>
+inline T sigma_cutoff(T opacity, double min_alpha) {
+  return min_alpha > 0 ? std::log(opacity / T(min_alpha)) : T(80);
+}
 
 /// Output pointers of one render, row-major per pixel.
 template <class T>
@@ -44,7 +51,7 @@ inline void forward_tile_scalar(const TileRect& rect, const TileGaussian<T>* gs,
         const TileGaussian<T>& g = gs[k];
         const T dx = g.x - T(px), dy = g.y - T(py);
         const T sigma = T(0.5) * (g.ca * dx * dx + g.cc * dy * dy) + g.cb * dx * dy;
-        if (sigma < T(0)) continue;
+        if (sigma < T(0) || sigma > g.sigma_cut) continue;
         const T alpha = std::min(max_alpha, g.opacity * std::exp(-sigma));
         if (alpha < min_alpha) continue;
         const T next_T = Tr * (T(1) - alpha);
@@ -97,7 +104,7 @@ inline void backward_tile_scalar(const TileRect& rect, const TileGaussian<T>* gs
         const TileGaussian<T>& g = gs[k];
         const T dx = g.x - T(px), dy = g.y - T(py);
         const T sigma = T(0.5) * (g.ca * dx * dx + g.cc * dy * dy) + g.cb * dx * dy;
-        if (sigma < T(0)) continue;
+        if (sigma < T(0) || sigma > g.sigma_cut) continue;
         const T vis = std::exp(-sigma);
         const T raw = g.opacity * vis;
         const T alpha = std::min(max_alpha, raw);

@@ -1,10 +1,11 @@
-// Optimising a small scene from perturbed parameters: the loss falls on average (every block of
-// 50 iterations has a lower mean loss than the block before) and the renders reach a stated
-// PSNR against the ground-truth images.
+// Optimising a small scene from perturbed parameters: the loss falls on average (block means of
+// 50 iterations never rise by more than 1% of the initial loss, and the last is under a fifth of
+// the first) and the renders reach a stated PSNR against the ground-truth images.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -80,14 +81,53 @@ TEST(MappingOptimize, PerturbedSceneConvergesToStatedPsnr) {
     ASSERT_TRUE(std::isfinite(terms.total));
     block_mean[static_cast<std::size_t>(it / kBlock)] += terms.total / kBlock;
   }
+  // monotone on average: no block is worse than the one before by more than 1% of the initial
+  // loss (at convergence the block means flatten out), and the loss falls at least five-fold
   for (std::size_t b = 1; b < block_mean.size(); ++b)
-    EXPECT_LT(block_mean[b], block_mean[b - 1]) << "block " << b;
+    EXPECT_LT(block_mean[b], block_mean[b - 1] + 0.01 * block_mean[0]) << "block " << b;
+  EXPECT_LT(block_mean.back(), 0.2 * block_mean.front());
   const double psnr_after = mean_psnr();
   std::printf("loss first block %.5f last block %.5f; PSNR %.2f dB -> %.2f dB, %zu Gaussians\n",
               block_mean.front(), block_mean.back(), psnr_before, psnr_after, g.size());
   EXPECT_GT(psnr_after, kPsnrBoundDb);
   EXPECT_GT(psnr_after, psnr_before + 5.0);
   EXPECT_LE(opt.bytes_per_gaussian(g), 400.0);
+}
+
+}  // namespace
+}  // namespace vigs::mapping
+
+namespace vigs::mapping {
+namespace {
+
+TEST(MappingOptimize, FusedAdamStepEqualsGradientThenStep) {
+  const RenderCamera cam = test::small_camera(64, 48, 60.0);
+  GaussianMap a = test::random_gaussians<float>(40, 5);
+  GaussianMap b = a;
+  WorkerPool pool(2);
+  Rasterizer<float> ras(RasterSettings{}, &pool);
+  RenderResult<float> r;
+  ras.forward(a, cam, r);
+  std::vector<float> vc(r.color.size());
+  for (std::size_t i = 0; i < vc.size(); ++i) vc[i] = 0.01f * static_cast<float>(i % 7) - 0.03f;
+  AdamSettings s;
+  s.lr_mean = 1e-3;
+  Adam adam_a(s), adam_b(s);
+  GaussianMap grad;
+  ras.backward(a, cam, r, vc.data(), nullptr, nullptr, grad);
+  adam_a.step(a, grad);
+  ras.accumulate_gradients(b, cam, r, vc.data(), nullptr, nullptr);
+  adam_b.step_fused(
+      b, [&](std::size_t i, float* g) { ras.gaussian_gradient(b, cam, i, g); },
+      [&](std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn) {
+        ras.for_ranges(n, fn);
+      });
+  EXPECT_EQ(a.mean_w, b.mean_w);
+  EXPECT_EQ(a.log_scale, b.log_scale);
+  EXPECT_EQ(a.quat_wxyz, b.quat_wxyz);
+  EXPECT_EQ(a.opacity_logit, b.opacity_logit);
+  EXPECT_EQ(a.color_rgb, b.color_rgb);
+  EXPECT_NE(a.mean_w, test::random_gaussians<float>(40, 5).mean_w);  // something moved
 }
 
 }  // namespace
