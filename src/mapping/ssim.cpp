@@ -71,36 +71,36 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
   tmp_.resize(5 * nh);
   maps_.resize(5 * nv);
   if (grad_x) g_.resize(3 * nv);
+  rows_.resize(static_cast<std::size_t>(nt) * 5 * w);
   partial_.assign(static_cast<std::size_t>(nt) * static_cast<std::size_t>(channels), 0.0);
   const T* win = win_.data();
   const std::size_t cs = static_cast<std::size_t>(channels);
   for (int c = 0; c < channels; ++c) {
-    // horizontal pass of x, y, xx, yy, xy straight from the interleaved input: tmp (5 x h x wv)
-    for_rows(height, [&](int, int r0, int r1) {
+    // horizontal pass of x, y, xx, yy, xy: deinterleave a row into 5 planes, then filter each
+    // plane with the tap loop outside so the inner loop is contiguous: tmp (5 x h x wv)
+    for_rows(height, [&](int t, int r0, int r1) {
+      T* rowbuf = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
       for (int r = r0; r < r1; ++r) {
         const T* xr = x + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
         const T* yr = y + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
-        T* o[5];
-        for (int m = 0; m < 5; ++m)
-          o[m] = tmp_.data() + static_cast<std::size_t>(m) * nh +
+        for (std::size_t q = 0; q < w; ++q) {
+          const T a = xr[q * cs], b = yr[q * cs];
+          rowbuf[q] = a;
+          rowbuf[w + q] = b;
+          rowbuf[2 * w + q] = a * a;
+          rowbuf[3 * w + q] = b * b;
+          rowbuf[4 * w + q] = a * b;
+        }
+        for (int m = 0; m < 5; ++m) {
+          T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
                  static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
-        for (int xx = 0; xx < wv; ++xx) {
-          T s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0;
+          const T* src = rowbuf + static_cast<std::size_t>(m) * w;
+          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
           for (int k = 0; k < K; ++k) {
-            const T a = xr[static_cast<std::size_t>(xx + k) * cs],
-                    b = yr[static_cast<std::size_t>(xx + k) * cs];
             const T wk = win[k];
-            s0 += wk * a;
-            s1 += wk * b;
-            s2 += wk * a * a;
-            s3 += wk * b * b;
-            s4 += wk * a * b;
+            const T* sk = src + k;
+            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * sk[xx];
           }
-          o[0][xx] = s0;
-          o[1][xx] = s1;
-          o[2][xx] = s2;
-          o[3][xx] = s3;
-          o[4][xx] = s4;
         }
       }
     });
@@ -144,7 +144,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
     if (!grad_x) continue;
     // transposed filters as gathers: vertical into tmp (3 x h x wv), then horizontal per row;
     // dL/dx_q = (W^T g_mu)_q + 2 x_q (W^T g_xx)_q + y_q (W^T g_xy)_q
-    for_rows(height, [&](int, int r0, int r1) {
+    for_rows(height, [&](int t, int r0, int r1) {
       for (int r = r0; r < r1; ++r) {
         for (int m = 0; m < 3; ++m) {
           T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
@@ -159,22 +159,22 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
             for (int xx = 0; xx < wv; ++xx) o[xx] += wk * s[xx];
           }
         }
-        const T* t0 = tmp_.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
-        const T* t1 = t0 + nh;
-        const T* t2 = t1 + nh;
-        for (int q = 0; q < width; ++q) {
-          T b0 = 0, b1 = 0, b2 = 0;
-          const int k_lo = q - wv + 1 > 0 ? q - wv + 1 : 0, k_hi = q < K - 1 ? q : K - 1;
-          for (int k = k_lo; k <= k_hi; ++k) {
+        T* back = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
+        for (int m = 0; m < 3; ++m) {
+          const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh +
+                         static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+          T* o = back + static_cast<std::size_t>(m) * w;
+          for (std::size_t q = 0; q < w; ++q) o[q] = 0;
+          for (int k = 0; k < K; ++k) {
             const T wk = win[k];
-            b0 += wk * t0[q - k];
-            b1 += wk * t1[q - k];
-            b2 += wk * t2[q - k];
+            T* ok = o + k;
+            for (int xx = 0; xx < wv; ++xx) ok[xx] += wk * src[xx];
           }
+        }
+        for (std::size_t q = 0; q < w; ++q) {
           const std::size_t i =
-              (static_cast<std::size_t>(r) * w + static_cast<std::size_t>(q)) * cs +
-              static_cast<std::size_t>(c);
-          grad_x[i] = b0 + T(2) * x[i] * b1 + y[i] * b2;
+              (static_cast<std::size_t>(r) * w + q) * cs + static_cast<std::size_t>(c);
+          grad_x[i] = back[q] + T(2) * x[i] * back[w + q] + y[i] * back[2 * w + q];
         }
       }
     });

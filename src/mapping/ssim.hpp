@@ -44,7 +44,7 @@ class Ssim {
   SsimOptions opt_;
   WorkerPool* pool_;
   std::vector<T> win_;
-  std::vector<T> tmp_, maps_, g_;
+  std::vector<T> tmp_, maps_, g_, rows_;
   std::vector<double> partial_;
 };
 
