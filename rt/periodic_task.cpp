@@ -1,0 +1,82 @@
+#include "rt/periodic_task.hpp"
+
+#include <sys/prctl.h>
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "rt/clock.hpp"
+
+namespace vigs::rt {
+
+PeriodicTask::PeriodicTask(const ThreadSpec& spec, Body body)
+    : spec_(spec), body_(std::move(body)) {
+  if (spec_.period_ns <= 0) {
+    throw std::invalid_argument("PeriodicTask '" + std::string(spec_.name.view()) +
+                                "' needs period_ns > 0");
+  }
+  if (!body_) throw std::invalid_argument("PeriodicTask needs a body");
+}
+
+void PeriodicTask::start() {
+  if (thread_) throw std::logic_error("PeriodicTask::start() called twice");
+  thread_.emplace(spec_, [this](std::stop_token stop) { run(std::move(stop)); });
+}
+
+void PeriodicTask::request_stop() noexcept {
+  stop_flag_.store(true, std::memory_order_release);
+}
+
+void PeriodicTask::stop() {
+  request_stop();
+  if (thread_) thread_->join();
+}
+
+ThreadApplyStatus PeriodicTask::thread_status() const noexcept {
+  return thread_ ? thread_->status() : ThreadApplyStatus{};
+}
+
+void PeriodicTask::run(std::stop_token stop) noexcept {
+  // A SCHED_OTHER thread's timer wake-ups may be deferred by its timer slack (50 us by default)
+  // to batch them; a periodic task wants its deadline. (SCHED_FIFO threads have no slack.)
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  const std::int64_t period = spec_.period_ns;
+  std::int64_t deadline = monotonic_ns() + period;
+  std::uint64_t index = 0;
+  auto stopping = [&] {
+    return stop_flag_.load(std::memory_order_acquire) || stop.stop_requested();
+  };
+  while (!stopping()) {
+    sleep_until_ns(deadline);
+    const std::int64_t wake = monotonic_ns();
+    wake_jitter_.record(wake - deadline);
+    if (stopping()) break;
+
+    body_(Cycle{deadline, wake, index++});
+
+    const std::int64_t end = monotonic_ns();
+    cycle_time_.record(end - wake);
+    cycles_.add();
+    deadline += period;
+    if (end > deadline) {
+      // Finished after the next deadline: skip to the first deadline still in the future.
+      const std::int64_t skipped = (end - deadline) / period + 1;
+      overruns_.add();
+      missed_deadlines_.add(static_cast<std::uint64_t>(skipped));
+      deadline += skipped * period;
+    }
+  }
+}
+
+std::string PeriodicTask::report() const {
+  char head[160];
+  std::snprintf(head, sizeof head, "%s: period=%s cycles=%llu overruns=%llu missed_deadlines=%llu",
+                spec_.name.c_str(), format_duration_ns(spec_.period_ns).c_str(),
+                static_cast<unsigned long long>(cycles()),
+                static_cast<unsigned long long>(overruns()),
+                static_cast<unsigned long long>(missed_deadlines()));
+  return std::string(head) + "\n  " + wake_jitter_.report("wake jitter") + "\n  " +
+         cycle_time_.report("cycle time");
+}
+
+}  // namespace vigs::rt

@@ -1,0 +1,91 @@
+// PeriodicTask: runs a callable at a fixed rate on its own RtThread.
+//
+// Deadlines are absolute CLOCK_MONOTONIC times, deadline_k = start + k * period, slept to with
+// clock_nanosleep(TIMER_ABSTIME), so the rate does not drift with the body's run time or with
+// wake-up latency. The first cycle runs one period after start().
+// Overrun policy: a cycle that finishes after its next deadline is an overrun. The task does not
+// try to catch up with back-to-back cycles; it skips to the next deadline still in the future and
+// counts every deadline it skipped (missed_deadlines). So cycles() + missed_deadlines() tracks
+// elapsed / period however loaded the machine is, and the schedule stays on the original grid.
+// Every cycle records the wake-up jitter (actual wake - deadline) and the cycle time (body run
+// time, wake to end) in histograms. The loop itself allocates nothing, takes no lock and logs
+// nothing; the body decides what it does.
+// Stopping: request_stop() sets the flag (any thread, also from inside the body); the loop exits
+// before the next body call, so stop() returns within one period plus one body run.
+#pragma once
+
+#include <atomic>
+#include <concepts>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <stop_token>
+#include <string>
+#include <utility>
+
+#include "rt/counters.hpp"
+#include "rt/latency_histogram.hpp"
+#include "rt/rt_thread.hpp"
+#include "rt/thread_table.hpp"
+
+namespace vigs::rt {
+
+class PeriodicTask {
+ public:
+  struct Cycle {
+    std::int64_t deadline_ns;  // CLOCK_MONOTONIC deadline this cycle was scheduled for
+    std::int64_t wake_ns;      // when the thread actually woke
+    std::uint64_t index;       // 0, 1, 2, ... (cycles actually run)
+  };
+  using Body = std::function<void(const Cycle&)>;
+
+  // spec.period_ns must be > 0 (std::invalid_argument otherwise). The body is stored once here;
+  // std::function never allocates when it is called.
+  PeriodicTask(const ThreadSpec& spec, Body body);
+  // Convenience for bodies that ignore the cycle information.
+  template <class F>
+  requires(std::invocable<F&> && !std::invocable<F&, const Cycle&>)
+      PeriodicTask(const ThreadSpec& spec, F body)
+      : PeriodicTask(spec, Body([fn = std::move(body)](const Cycle&) mutable { fn(); })) {}
+
+  ~PeriodicTask() { stop(); }
+  PeriodicTask(const PeriodicTask&) = delete;
+  PeriodicTask& operator=(const PeriodicTask&) = delete;
+
+  // Creates the thread (applying the spec) and starts the schedule. Once per task; a second call
+  // throws std::logic_error.
+  void start();
+  // Any thread, including the body.
+  void request_stop() noexcept;
+  // request_stop() and join. Not from inside the body. Safe to call repeatedly or before start().
+  void stop();
+
+  [[nodiscard]] const ThreadSpec& spec() const noexcept { return spec_; }
+  [[nodiscard]] std::int64_t period_ns() const noexcept { return spec_.period_ns; }
+  // After start(): what apply_thread_spec achieved; before: all kNotRequested.
+  [[nodiscard]] ThreadApplyStatus thread_status() const noexcept;
+
+  // Statistics; any thread, any time.
+  [[nodiscard]] std::uint64_t cycles() const noexcept { return cycles_.get(); }
+  [[nodiscard]] std::uint64_t overruns() const noexcept { return overruns_.get(); }
+  [[nodiscard]] std::uint64_t missed_deadlines() const noexcept { return missed_deadlines_.get(); }
+  [[nodiscard]] const LatencyHistogram& wake_jitter() const noexcept { return wake_jitter_; }
+  [[nodiscard]] const LatencyHistogram& cycle_time() const noexcept { return cycle_time_; }
+  // Multi-line summary for the exit report (allocates; not for the real-time path).
+  [[nodiscard]] std::string report() const;
+
+ private:
+  void run(std::stop_token stop) noexcept;
+
+  ThreadSpec spec_;
+  Body body_;
+  std::atomic<bool> stop_flag_{false};  // request_stop() touches only this: safe from the body
+  SingleWriterCounter cycles_;
+  SingleWriterCounter overruns_;
+  SingleWriterCounter missed_deadlines_;
+  LatencyHistogram wake_jitter_;
+  LatencyHistogram cycle_time_;
+  std::optional<RtThread> thread_;  // last: destroyed (joined) first
+};
+
+}  // namespace vigs::rt
