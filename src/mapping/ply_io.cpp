@@ -141,6 +141,15 @@ GaussianMap read_gaussian_ply(const std::string& path) {
     offs[k] = it->second;
   }
   const std::streamoff data_start = f.tellg();
+  f.seekg(0, std::ios::end);
+  const std::streamoff data_bytes = f.tellg() - data_start;
+  f.seekg(data_start);
+  if (static_cast<std::uintmax_t>(data_bytes) / static_cast<std::uintmax_t>(stride) < count)
+    throw PlyError(path + ": header promises " + std::to_string(count) + " vertices of " +
+                   std::to_string(stride) + " bytes but only " + std::to_string(data_bytes) +
+                   " bytes follow the header at byte " + std::to_string(data_start) +
+                   " (truncated at byte " +
+                   std::to_string(data_start + data_bytes / stride * stride) + ")");
   GaussianMap map;
   map.resize(count);
   std::vector<char> row(static_cast<std::size_t>(stride));
