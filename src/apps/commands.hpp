@@ -17,5 +17,8 @@ void add_align_command(CLI::App& app, ExitCode& exit_code);
 void add_mcap_command(CLI::App& app, ExitCode& exit_code);
 void add_simulate_command(CLI::App& app, ExitCode& exit_code);
 void add_eval_command(CLI::App& app, ExitCode& exit_code);
+void add_eval_image_command(CLI::App& app, ExitCode& exit_code);
+void add_render_command(CLI::App& app, ExitCode& exit_code);
+void add_map_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps

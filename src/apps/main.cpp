@@ -18,6 +18,9 @@ int main(int argc, char** argv) {
   vigs::apps::add_mcap_command(app, exit_code);
   vigs::apps::add_simulate_command(app, exit_code);
   vigs::apps::add_eval_command(app, exit_code);
+  vigs::apps::add_eval_image_command(app, exit_code);
+  vigs::apps::add_render_command(app, exit_code);
+  vigs::apps::add_map_command(app, exit_code);
 
   CLI11_PARSE(app, argc, argv);
   return exit_code.value;

@@ -6,6 +6,7 @@
 #include "core/config/extrinsics_settings.hpp"
 #include "core/config/imu_settings.hpp"
 #include "core/config/inertial_settings.hpp"
+#include "core/config/mapping_settings.hpp"
 #include "core/config/rt_settings.hpp"
 #include "core/config/tracking_settings.hpp"
 #include "core/config/sim_settings.hpp"
@@ -25,6 +26,7 @@ struct RobotConfig {
   RtSettings rt;
   TrackingSettings tracking;
   SimSettings sim;
+  MappingSettings mapping;
 
   void visit(Visitor& v) {
     v.field("robot", robot, {}, "robot name, used in logs and status");
@@ -36,6 +38,7 @@ struct RobotConfig {
     v.section("rt", rt);
     v.section("tracking", tracking);
     v.section("sim", sim);
+    v.section("mapping", mapping);
   }
 };
 
