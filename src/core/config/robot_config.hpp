@@ -8,8 +8,8 @@
 #include "core/config/inertial_settings.hpp"
 #include "core/config/mapping_settings.hpp"
 #include "core/config/rt_settings.hpp"
-#include "core/config/tracking_settings.hpp"
 #include "core/config/sim_settings.hpp"
+#include "core/config/tracking_settings.hpp"
 #include "core/config/visitor.hpp"
 
 namespace vigs::config {
