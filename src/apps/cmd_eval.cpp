@@ -25,7 +25,9 @@ struct EvalArgs {
   double delta = 1.0;
   std::string delta_unit = "frames";
   std::string results_dir, config_file, est_frame = "camera", est_name = "trajectory.tum";
-  bool no_plots = false;
+  bool no_plots = false, no_render = false;
+  int every = 5, threads = 2;
+  double keyframe_tol_s = 0.005;
 };
 
 /// Runs `body`, turning input errors into a message on stderr and exit code 1.
@@ -97,8 +99,12 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
   });
 
   auto* run = group->add_subcommand(
-      "run", "Write RESULTS_DIR/report.md (ATE, RPE, plots) for a pipeline run");
-  run->add_option("RESULTS_DIR", a.results_dir, "folder with the run's trajectory.tum")
+      "run",
+      "Write RESULTS_DIR/report.md (ATE, RPE, PSNR/SSIM, run statistics, plots) for a pipeline "
+      "run");
+  run->add_option("RESULTS_DIR", a.results_dir,
+                  "folder with the run's trajectory.tum (and optionally map.ply, keyframes.txt, "
+                  "stats.json)")
       ->required()
       ->check(CLI::ExistingDirectory);
   run->add_option("--gt", a.gt, "the recording (.mcap) the run was made on, or a TUM file")
@@ -114,6 +120,17 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::IsMember({"se3", "sim3", "none"}));
   run->add_option("--max-dt", a.max_dt_s, "association window, s")->check(CLI::PositiveNumber);
   run->add_flag("--no-plots", a.no_plots, "skip the gnuplot PNGs");
+  run->add_flag("--no-render", a.no_render, "skip PSNR/SSIM and the rendered views");
+  run->add_option("--every", a.every, "frame stride of the PSNR/SSIM sets")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  run->add_option("--keyframe-tol", a.keyframe_tol_s,
+                  "a frame this close (s) to a keyframes.txt stamp is that keyframe")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  run->add_option("--threads", a.threads, "rasterizer threads")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
   run->callback([&exit_code] {
     guarded(exit_code, [] {
       const auto cfg = a.config_file.empty()
@@ -129,6 +146,11 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       opt.ate.align = eval::parse_alignment(a.align);
       opt.ate.max_dt_s = a.max_dt_s;
       opt.plots = !a.no_plots;
+      opt.render = !a.no_render;
+      opt.quality.every = a.every;
+      opt.quality.keyframe_tol_s = a.keyframe_tol_s;
+      opt.quality.max_dt_s = a.max_dt_s;
+      opt.quality.threads = a.threads;
       const auto r = eval::write_report(opt);
       for (const auto& w : r.warnings) std::cerr << "vigs eval run: " << w << "\n";
       std::cout << eval::report_json(r, opt) << "\n";

@@ -1,14 +1,18 @@
 #include "eval/report.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 #include "eval/gnuplot.hpp"
 #include "eval/mcap_trajectory.hpp"
 #include "eval/trajectory_file.hpp"
 #include "io/atomic_file.hpp"
+#include "mapping/ply_io.hpp"
 
 namespace vigs::eval {
 namespace fs = std::filesystem;
@@ -111,6 +115,92 @@ std::vector<std::string> draw_plots(const ReportOptions& opt, const ReportResult
   return out;
 }
 
+bool is_mcap_path(const std::string& p) {
+  return p.size() >= 5 && p.compare(p.size() - 5, 5, ".mcap") == 0;
+}
+
+std::string opt_num(const std::optional<double>& v, const char* f) {
+  return v ? fmt(f, *v) : std::string("not measured");
+}
+
+/// Reads the optional RESULTS_DIR files, renders the map when it can, and returns the
+/// markdown of the rendering and statistics sections plus the "not measured" items.
+void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, ReportResult& r,
+                         std::string& md_sections, std::vector<std::string>& not_measured) {
+  const fs::path dir(opt.results_dir);
+  const bool have_map = fs::exists(dir / kMapFile);
+  const bool have_kf = fs::exists(dir / kKeyframesFile);
+  const bool have_stats = fs::exists(dir / kStatsFile);
+  for (const auto& [have, name] :
+       {std::pair{have_map, kMapFile}, std::pair{have_kf, kKeyframesFile},
+        std::pair{have_stats, kStatsFile}})
+    if (!have) r.missing.emplace_back(name);
+  if (have_kf) r.keyframe_t_s = read_keyframe_times((dir / kKeyframesFile).string());
+  if (have_stats) r.run_stats = read_run_stats((dir / kStatsFile).string());
+  mapping::GaussianMap map;
+  if (have_map) {
+    map = mapping::read_gaussian_ply((dir / kMapFile).string());
+    r.gaussians = static_cast<long>(map.size());
+  }
+  const bool mcap = is_mcap_path(opt.gt_path);
+  if (opt.render && have_map && mcap) {
+    Trajectory cam = est;
+    if (!opt.estimate_is_camera)
+      for (auto& p : cam.poses) p.T_w_x = p.T_w_x * opt.T_b_c;
+    std::stable_sort(cam.poses.begin(), cam.poses.end(),
+                     [](const TimedPose& a, const TimedPose& b) { return a.t_s < b.t_s; });
+    RenderQualityOptions q = opt.quality;
+    fs::create_directories(dir / "plots");
+    q.side_by_side_png = (dir / "plots" / "rendered_vs_recorded.png").string();
+    r.quality = measure_render_quality(map, cam, r.keyframe_t_s, opt.gt_path, q);
+    r.quality_measured = true;
+    md_sections += render_quality_markdown(r.quality, q, have_kf, "plots/rendered_vs_recorded.png");
+    if (!have_kf)
+      not_measured.push_back(
+          "**PSNR and SSIM on held-out frames**: no keyframes.txt in the results, so frames "
+          "never used as keyframes cannot be told apart.");
+  } else {
+    const std::string why = !opt.render ? "rendering was switched off (--no-render)"
+                            : !have_map ? "the results hold no map.ply"
+                                        : "the ground truth is not an MCAP recording, so there "
+                                          "are no recorded images to compare with";
+    not_measured.push_back("**PSNR and SSIM** (every " + std::to_string(opt.quality.every) +
+                           "th frame and held-out frames) and the **rendered views beside the "
+                           "recording**: " +
+                           why + ".");
+  }
+  md_sections += "## Map and run statistics\n\n| quantity | value | source |\n|---|---|---|\n";
+  md_sections += "| Gaussians in the map | " +
+                 (have_map ? std::to_string(r.gaussians) : std::string("not measured")) +
+                 " | map.ply |\n";
+  const RunStats& st = r.run_stats;
+  std::optional<double> fps = st.fps;
+  std::string fps_source = "stats.json fps";
+  if (!fps && st.frames && st.wall_s && *st.wall_s > 0) {
+    fps = *st.frames / *st.wall_s;
+    fps_source = "stats.json frames / wall_s";
+  }
+  std::optional<double> peak_mib;
+  if (st.peak_rss_bytes) peak_mib = *st.peak_rss_bytes / (1024.0 * 1024.0);
+  md_sections += "| frames processed | " + opt_num(st.frames, "%.0f") + " | stats.json |\n";
+  md_sections += "| wall time [s] | " + opt_num(st.wall_s, "%.3f") + " | stats.json |\n";
+  md_sections += "| frames per second | " + opt_num(fps, "%.2f") + " | " + fps_source + " |\n";
+  md_sections += "| peak memory (RSS) [MiB] | " + opt_num(peak_mib, "%.1f") +
+                 " | stats.json peak_rss_bytes |\n";
+  md_sections +=
+      "| Gaussians reported by the run | " + opt_num(st.gaussians, "%.0f") + " | stats.json |\n\n";
+  if (!have_map) not_measured.push_back("**Gaussian count**: the results hold no map.ply.");
+  if (!fps)
+    not_measured.push_back("**Frames per second**: " +
+                           std::string(have_stats
+                                           ? "stats.json has neither fps nor frames and wall_s."
+                                           : "the results hold no stats.json."));
+  if (!peak_mib)
+    not_measured.push_back("**Peak memory**: " +
+                           std::string(have_stats ? "stats.json has no peak_rss_bytes."
+                                                  : "the results hold no stats.json."));
+}
+
 }  // namespace
 
 ReportResult write_report(const ReportOptions& opt) {
@@ -142,6 +232,9 @@ ReportResult write_report(const ReportOptions& opt) {
                          " m not computed: " + e.what());
   }
   if (opt.plots) r.plots = draw_plots(opt, r, r.warnings);
+  std::string map_sections;
+  std::vector<std::string> not_measured;
+  measure_map_and_run(opt, est, r, map_sections, not_measured);
 
   std::string md = "# VIGS evaluation report\n\n";
   md += "- results: `" + opt.results_dir + "`\n- estimate: `" + est_path + "` (" +
@@ -181,16 +274,17 @@ ReportResult write_report(const ReportOptions& opt) {
         "![" + fs::path(p).stem().string() + "](plots/" + fs::path(p).filename().string() + ")\n\n";
   }
   if (r.plots.empty()) md += "No plots were drawn (see the notes below).\n\n";
+  md += map_sections;
   md += "## Not measured in this report\n\n";
-  md +=
-      "- **PSNR and SSIM** (every 5th frame, and separately on held-out frames never used as "
-      "keyframes), the **rendered views beside ground truth**, **frames per second**, **peak "
-      "memory** and the **Gaussian count** need the mapping and pipeline outputs (rendered "
-      "images, run statistics); they are added to this report with those components and are "
-      "not estimated here.\n";
+  for (const auto& n : not_measured) md += "- " + n + "\n";
   md +=
       "- **LPIPS** needs pretrained network weights (AlexNet/VGG) that cannot be fetched on "
       "this machine, so it is not reported.\n";
+  if (!r.missing.empty()) {
+    md += "- Optional results files absent:";
+    for (const auto& m : r.missing) md += " `" + m + "`";
+    md += ".\n";
+  }
   for (const auto& w : r.warnings) md += "- Note: " + w + "\n";
   r.report_path = (fs::path(opt.results_dir) / "report.md").string();
   write_text(r.report_path, md);
@@ -215,7 +309,27 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
     rm.delta = opt.rpe_delta_m;
     json += ", \"rpe_metre\": " + rpe_json(r.rpe_metre, rm);
   }
-  json += ", \"plots\": " + plots + ", \"psnr\": null, \"ssim\": null, \"lpips\": null}";
+  const auto num = [](double v) {
+    return std::isfinite(v) ? fmt("%.10g", v) : std::string("null");
+  };
+  const auto set_json = [&](const QualitySet& q) {
+    return "{\"frames\": " + std::to_string(q.frames()) +
+           ", \"psnr_db\": " + num(q.mean_psnr_db()) + ", \"ssim\": " + num(q.mean_ssim()) + "}";
+  };
+  const auto opt_json = [&](const std::optional<double>& v) {
+    return v ? num(*v) : std::string("null");
+  };
+  json += ", \"plots\": " + plots;
+  if (r.quality_measured) {
+    json += ", \"quality\": {\"every_nth\": " + set_json(r.quality.every_nth) + ", \"held_out\": " +
+            (r.keyframe_t_s.empty() ? std::string("null") : set_json(r.quality.held_out)) +
+            ", \"rendered_views\": \"" + r.quality.side_by_side_png + "\"}";
+  } else {
+    json += ", \"quality\": null";
+  }
+  json += ", \"gaussians\": " + (r.gaussians >= 0 ? std::to_string(r.gaussians) : "null");
+  json += ", \"fps\": " + opt_json(r.run_stats.fps) +
+          ", \"peak_rss_bytes\": " + opt_json(r.run_stats.peak_rss_bytes) + ", \"lpips\": null}";
   return json;
 }
 

@@ -1,15 +1,20 @@
 #pragma once
-// `vigs eval run`: the evaluation report of one pipeline run. What it measures now: ATE and
-// RPE of RESULTS_DIR/trajectory.tum against the recording's ground truth, with PNG plots
-// (trajectory top view against ground truth, ATE over time) drawn by gnuplot. What it states
-// as not measured: PSNR/SSIM, rendered views, frame rate, peak memory and Gaussian count
-// (they need the mapping and pipeline outputs) and LPIPS (needs network weights that cannot be
-// fetched here).
+// `vigs eval run`: the evaluation report of one pipeline run, from a RESULTS_DIR laid out as in
+// eval/results_dir.hpp (trajectory.tum required; map.ply, keyframes.txt, stats.json optional).
+// It measures ATE and RPE of trajectory.tum against the ground truth (PNG plots by gnuplot:
+// trajectory top view, ATE over time); with map.ply and an MCAP ground truth, PSNR and SSIM of
+// the map rendered at the estimated poses against the recorded colour images, on every 5th
+// frame and on held-out frames never used as keyframes (eval/render_quality.hpp), and a PNG of
+// rendered views beside the recording; the Gaussian count from map.ply; frame rate and peak
+// memory from stats.json. Whatever an absent file would have given is listed as not measured,
+// and so is LPIPS (it needs network weights that cannot be fetched here).
 #include <string>
 #include <vector>
 
 #include "core/geometry/se3.hpp"
 #include "eval/ate.hpp"
+#include "eval/render_quality.hpp"
+#include "eval/results_dir.hpp"
 #include "eval/rpe.hpp"
 
 namespace vigs::eval {
@@ -25,6 +30,8 @@ struct ReportOptions {
   AteOptions ate;
   double rpe_delta_m = 1.0;  ///< RPE over 1 m of path (and separately over one frame)
   bool plots = true;
+  bool render = true;  ///< PSNR/SSIM and rendered views (needs map.ply and a .mcap ground truth)
+  RenderQualityOptions quality;  ///< side_by_side_png is set by write_report
 };
 
 struct ReportResult {
@@ -33,6 +40,12 @@ struct ReportResult {
   std::vector<std::string> warnings;  ///< e.g. gnuplot missing
   AteResult ate;
   RpeResult rpe_frame, rpe_metre;
+  bool quality_measured = false;
+  RenderQuality quality;
+  std::vector<double> keyframe_t_s;  ///< from keyframes.txt
+  long gaussians = -1;               ///< from map.ply, -1 when not read
+  RunStats run_stats;
+  std::vector<std::string> missing;  ///< optional RESULTS_DIR files absent
 };
 
 /// Writes RESULTS_DIR/report.md (atomically) and the plots. Throws TrajectoryFileError or

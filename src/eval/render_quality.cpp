@@ -1,0 +1,189 @@
+#include "eval/render_quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include "eval/mcap_frames.hpp"
+#include "io/image_io.hpp"
+#include "mapping/image_metrics.hpp"
+#include "mapping/rasterizer.hpp"
+
+namespace vigs::eval {
+namespace {
+
+double mean_of(const std::vector<double>& v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+/// Index of the pose nearest to t within max_dt, or -1.
+long nearest_pose(const Trajectory& tr, double t, double max_dt) {
+  const auto it = std::lower_bound(tr.poses.begin(), tr.poses.end(), t,
+                                   [](const TimedPose& p, double x) { return p.t_s < x; });
+  long best = -1;
+  double best_dt = max_dt;
+  for (auto c : {it, it == tr.poses.begin() ? it : it - 1}) {
+    if (c == tr.poses.end()) continue;
+    const double dt = std::abs(c->t_s - t);
+    if (dt <= best_dt) {
+      best_dt = dt;
+      best = static_cast<long>(c - tr.poses.begin());
+    }
+  }
+  return best;
+}
+
+bool near_any(const std::vector<double>& sorted, double t, double tol) {
+  const auto it = std::lower_bound(sorted.begin(), sorted.end(), t - tol);
+  return it != sorted.end() && *it <= t + tol;
+}
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+}  // namespace
+
+double QualitySet::mean_psnr_db() const {
+  return mean_of(psnr_db);
+}
+double QualitySet::mean_ssim() const {
+  return mean_of(ssim);
+}
+double QualitySet::min_psnr_db() const {
+  return psnr_db.empty() ? std::numeric_limits<double>::quiet_NaN()
+                         : *std::min_element(psnr_db.begin(), psnr_db.end());
+}
+
+RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Trajectory& T_w_c,
+                                     const std::vector<double>& keyframe_t_s,
+                                     const std::string& mcap_path,
+                                     const RenderQualityOptions& opt) {
+  if (opt.every < 1) throw std::invalid_argument("render quality: every must be >= 1");
+  if (opt.threads < 1) throw std::invalid_argument("render quality: threads must be >= 1");
+  RenderQuality q;
+  mapping::WorkerPool pool(opt.threads);
+  mapping::Rasterizer<float> ras(mapping::RasterSettings{}, &pool);
+  mapping::RenderResult<float> r;
+  io::ImageU8 rendered;
+  // Side-by-side rows: the first every-n-th frame at or after evenly spaced times of the
+  // estimate's span.
+  std::vector<double> targets;
+  if (!T_w_c.poses.empty() && opt.side_by_side_rows > 0 && !opt.side_by_side_png.empty()) {
+    const double t0 = T_w_c.poses.front().t_s, t1 = T_w_c.poses.back().t_s;
+    for (int k = 0; k < opt.side_by_side_rows; ++k)
+      targets.push_back(t0 + (t1 - t0) * (k + 0.5) / opt.side_by_side_rows);
+  }
+  std::size_t next_target = 0;
+  io::ImageU8 sbs;
+  std::uint64_t held_out_seen = 0;
+  const auto stats = for_each_recorded_frame(mcap_path, [&](const RecordedFrame& f) {
+    const bool keyframe = near_any(keyframe_t_s, f.t_s, opt.keyframe_tol_s);
+    if (keyframe) ++q.keyframe_frames;
+    const bool in_nth = f.index % static_cast<std::uint64_t>(opt.every) == 0;
+    bool in_held_out = false;
+    if (!keyframe && !keyframe_t_s.empty()) {
+      in_held_out = held_out_seen % static_cast<std::uint64_t>(opt.every) == 0;
+      ++held_out_seen;
+    }
+    if (!in_nth && !in_held_out) return;
+    const long pi = nearest_pose(T_w_c, f.t_s, opt.max_dt_s);
+    if (pi < 0) {
+      ++q.frames_without_pose;
+      return;
+    }
+    const auto& T = T_w_c.poses[static_cast<std::size_t>(pi)].T_w_x;
+    ras.forward(map, mapping::RenderCamera::from(f.camera, T), r);
+    rendered = io::ImageU8(f.rgb.width, f.rgb.height, 3);
+    for (std::size_t i = 0; i < rendered.data.size(); ++i)
+      rendered.data[i] =
+          static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(r.color[i], 0.0f, 1.0f)));
+    const auto iq = mapping::image_quality(f.rgb, rendered, mapping::SsimWindow::kGaussian11);
+    q.image_width = f.rgb.width;
+    q.image_height = f.rgb.height;
+    for (auto [set, on] : {std::pair{&q.every_nth, in_nth}, std::pair{&q.held_out, in_held_out}}) {
+      if (!on) continue;
+      set->t_s.push_back(f.t_s);
+      set->psnr_db.push_back(iq.psnr_db);
+      set->ssim.push_back(iq.ssim);
+    }
+    if (in_nth && next_target < targets.size() && f.t_s >= targets[next_target]) {
+      while (next_target < targets.size() && f.t_s >= targets[next_target]) ++next_target;
+      const int w = f.rgb.width, h = f.rgb.height;
+      const int row = static_cast<int>(q.side_by_side_t_s.size());
+      if (sbs.empty()) sbs = io::ImageU8(2 * w, h * opt.side_by_side_rows, 3);
+      if (sbs.width != 2 * w || sbs.height != h * opt.side_by_side_rows) return;  // size changed
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          for (int c = 0; c < 3; ++c) {
+            sbs.at(x, row * h + y, c) = rendered.at(x, y, c);
+            sbs.at(w + x, row * h + y, c) = f.rgb.at(x, y, c);
+          }
+      q.side_by_side_t_s.push_back(f.t_s);
+    }
+  });
+  q.recorded_frames = stats.frames + stats.without_camera_info;
+  q.frames_without_camera_info = stats.without_camera_info;
+  if (!q.side_by_side_t_s.empty()) {
+    // Rows never filled (short estimate) are cut off.
+    sbs.height = sbs.height / opt.side_by_side_rows * static_cast<int>(q.side_by_side_t_s.size());
+    sbs.data.resize(static_cast<std::size_t>(sbs.width) * sbs.height * 3);
+    io::write_png(opt.side_by_side_png, sbs);
+    q.side_by_side_png = opt.side_by_side_png;
+    q.side_by_side_width = sbs.width;
+    q.side_by_side_height = sbs.height;
+  }
+  return q;
+}
+
+std::string render_quality_markdown(const RenderQuality& q, const RenderQualityOptions& opt,
+                                    bool have_keyframes, const std::string& png_relative) {
+  std::string md = "## Rendering quality (PSNR, SSIM)\n\n";
+  md += "The map is rendered at the estimated camera pose of recorded frames (" +
+        std::to_string(q.image_width) + "x" + std::to_string(q.image_height) +
+        " px) and compared with the recorded colour image: PSNR with peak 255 over all pixels "
+        "and channels, SSIM with the Gaussian 11x11 window (sigma 1.5) over valid windows, mean "
+        "over channels. Means are per-frame means. " +
+        std::to_string(q.recorded_frames) + " colour frames recorded, " +
+        std::to_string(q.keyframe_frames) + " of them keyframes.\n\n";
+  md += "| set | frames | mean PSNR [dB] | min PSNR [dB] | mean SSIM |\n|---|---|---|---|---|\n";
+  const auto row = [&](const std::string& name, const QualitySet& s) {
+    if (s.frames() == 0) return "| " + name + " | 0 | - | - | - |\n";
+    return "| " + name + " | " + std::to_string(s.frames()) + " | " +
+           fmt("%.2f", s.mean_psnr_db()) + " | " + fmt("%.2f", s.min_psnr_db()) + " | " +
+           fmt("%.4f", s.mean_ssim()) + " |\n";
+  };
+  md += row("every " + std::to_string(opt.every) + "th frame", q.every_nth);
+  if (have_keyframes) md += row("held-out (never keyframes)", q.held_out);
+  md += "\n";
+  if (!have_keyframes)
+    md += "- Held-out frames: not measured, the run wrote no keyframes.txt.\n";
+  else
+    md += "- Held-out frames: farther than " + fmt("%.3g", opt.keyframe_tol_s) +
+          " s from every keyframe stamp; every " + std::to_string(opt.every) +
+          "th of them is used.\n";
+  if (q.frames_without_pose > 0)
+    md += "- " + std::to_string(q.frames_without_pose) +
+          " selected frames had no estimated pose within " + fmt("%.3g", opt.max_dt_s) +
+          " s and were skipped.\n";
+  if (q.frames_without_camera_info > 0)
+    md += "- " + std::to_string(q.frames_without_camera_info) +
+          " colour frames came before any CameraInfo and were skipped.\n";
+  md += "\n### Rendered views beside the recording\n\n";
+  if (q.side_by_side_png.empty()) {
+    md += "No rendered views were written (no frame with an estimated pose).\n\n";
+  } else {
+    md += "Left: rendered from the map at the estimated pose; right: recorded. Rows at t =";
+    for (const double t : q.side_by_side_t_s) md += " " + fmt("%.3f", t) + " s";
+    md += ".\n\n![rendered vs recorded](" + png_relative + ")\n\n";
+  }
+  return md;
+}
+
+}  // namespace vigs::eval

@@ -1,0 +1,273 @@
+// `vigs eval run` on a real RESULTS_DIR: a short simulated recording (apartment, reduced image
+// size), a Gaussian map built from its RGB-D keyframes at the ground-truth camera poses with the
+// mapping library, the ground-truth trajectory and a perturbed one. The map rendered at the true
+// poses must match the recording clearly better than at the perturbed poses.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/config/robot_config.hpp"
+#include "eval/report.hpp"
+#include "io/atomic_file.hpp"
+#include "io/image_io.hpp"
+#include "io/tum_trajectory.hpp"
+#include "mapping/insertion.hpp"
+#include "mapping/map_optimizer.hpp"
+#include "mapping/ply_io.hpp"
+#include "mapping/rgbd_keyframe.hpp"
+#include "sim/mcap_sink.hpp"
+#include "sim/simulator.hpp"
+
+namespace vigs::eval {
+namespace {
+namespace fs = std::filesystem;
+
+std::string read_all(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+constexpr int kKeyframeEvery = 4;
+
+/// Records the frames next to the MCAP file.
+struct FrameTee : sim::SimSink {
+  sim::SimSink* mcap = nullptr;
+  std::vector<std::int64_t> t_ns;
+  std::vector<sim::RgbdFrame> frames;
+  PinholeCamera camera;
+  void frame(std::int64_t t, const PinholeCamera& c, const sim::RgbdFrame& f) override {
+    mcap->frame(t, c, f);
+    t_ns.push_back(t);
+    frames.push_back(f);
+    camera = c;
+  }
+  void imu(const ImuSample& s) override { mcap->imu(s); }
+  void ground_truth(std::int64_t t, const geometry::Pose& T) override { mcap->ground_truth(t, T); }
+};
+
+class RenderReportTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::path(::testing::TempDir()) / ("vigs_render_report_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const auto t0 = std::chrono::steady_clock::now();
+    config::RobotConfig cfg;
+    cfg.sim.preset = "apartment";
+    cfg.sim.humans = 0;
+    cfg.sim.seconds = 2.0;
+    // A third of the default resolution: the same field of view at a ninth of the cost.
+    cfg.camera.width_px = 240;
+    cfg.camera.height_px = 160;
+    cfg.camera.fx_px = cfg.camera.fy_px = 415.69219381653056 / 3.0;
+    cfg.camera.cx_px = 120.0;
+    cfg.camera.cy_px = 80.0;
+    sim::Simulator sim(cfg);
+    T_b_c_ = sim.T_b_c();
+    mcap_ = (dir_ / "seq.mcap").string();
+    FrameTee tee;
+    {
+      sim::McapSink sink(mcap_, {});
+      tee.mcap = &sink;
+      sim.run(tee);
+      sink.close();
+    }
+    frames_ = tee.frames.size();
+
+    // The "run": keyframes every 4th frame, a map from their RGB-D at the true poses.
+    const PinholeCamera& k = tee.camera;
+    mapping::GaussianMap map;
+    mapping::GaussianInserter inserter;
+    mapping::RgbdSampling sampling;
+    sampling.stride_px = 2;
+    struct View {
+      std::vector<float> rgb;
+      std::vector<float> depth;
+      mapping::TrainingView view;
+    };
+    std::vector<View> views;
+    std::vector<io::TumPose> truth, perturbed;
+    for (std::size_t i = 0; i < tee.frames.size(); ++i) {
+      const double t = static_cast<double>(tee.t_ns[i]) * 1e-9;
+      const geometry::Pose T_w_c = sim.camera_pose(t);
+      io::TumPose p;
+      p.t_s = t;
+      p.p_w_m = T_w_c.translation();
+      p.q_w = Eigen::Quaterniond(T_w_c.linear());
+      truth.push_back(p);
+      // 4 cm sideways and 2 degrees of yaw (about the camera's y axis).
+      const geometry::Pose T_bad =
+          T_w_c * geometry::make_pose(Eigen::Vector3d(0.04, 0.0, 0.0),
+                                      Eigen::Quaterniond(Eigen::AngleAxisd(
+                                          2.0 * M_PI / 180.0, Eigen::Vector3d::UnitY())));
+      p.p_w_m = T_bad.translation();
+      p.q_w = Eigen::Quaterniond(T_bad.linear());
+      perturbed.push_back(p);
+      if (i % kKeyframeEvery != 0) continue;
+      keyframes_.push_back(t);
+      const sim::RgbdFrame& f = tee.frames[i];
+      io::ImageU8 rgb(f.width, f.height, 3);
+      rgb.data = f.color;
+      io::ImageF32 depth(f.width, f.height, 1);
+      depth.data = f.depth_m;
+      inserter.insert(map, mapping::keyframe_from_rgbd(k, rgb, depth, T_w_c, sampling));
+      View v;
+      v.rgb.assign(f.color.begin(), f.color.end());
+      for (auto& c : v.rgb) c /= 255.0f;
+      v.depth = f.depth_m;
+      views.push_back(std::move(v));
+      views.back().view = {mapping::RenderCamera::from(k, T_w_c), views.back().rgb.data(),
+                           views.back().depth.data()};
+    }
+    config::MappingSettings ms;
+    ms.threads = 2;
+    mapping::WorkerPool pool(ms.threads);
+    mapping::MapOptimizer opt(ms, &pool);
+    for (int it = 0; it < 100; ++it)
+      opt.iterate(map, views[static_cast<std::size_t>(it) % views.size()].view);
+    gaussians_ = map.size();
+    mapping::write_gaussian_ply((dir_ / kMapFile).string(), map);
+    io::write_tum_trajectory((dir_ / kTrajectoryFile).string(), truth);
+    io::write_tum_trajectory((dir_ / "trajectory_perturbed.tum").string(), perturbed);
+    write_text((dir_ / kKeyframesFile).string(), format_keyframe_times(keyframes_));
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    write_text((dir_ / kStatsFile).string(),
+               "{\"producer\": \"test_eval_render_report\", \"frames\": " +
+                   std::to_string(frames_) + ", \"wall_s\": " + std::to_string(wall_s) +
+                   ", \"peak_rss_bytes\": " + std::to_string(ru.ru_maxrss * 1024L) +
+                   ", \"gaussians\": " + std::to_string(gaussians_) + "}\n");
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+
+  static ReportOptions options(const fs::path& dir, const std::string& estimate) {
+    ReportOptions opt;
+    opt.results_dir = dir.string();
+    opt.gt_path = mcap_;
+    opt.estimate_name = estimate;
+    opt.T_b_c = T_b_c_;
+    opt.ate.align = Alignment::kNone;
+    opt.plots = false;
+    opt.quality.threads = 2;
+    return opt;
+  }
+
+  static inline fs::path dir_;
+  static inline std::string mcap_;
+  static inline std::size_t frames_ = 0, gaussians_ = 0;
+  static inline std::vector<double> keyframes_;
+  static inline geometry::Pose T_b_c_ = geometry::Pose::Identity();
+};
+
+TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
+  ASSERT_EQ(frames_, 41u);  // 2 s at 20 Hz
+  const ReportResult good = write_report(options(dir_, kTrajectoryFile));
+  const std::string md = read_all(good.report_path);
+  const ReportResult bad = write_report(options(dir_, "trajectory_perturbed.tum"));
+  ASSERT_TRUE(good.quality_measured && bad.quality_measured);
+  EXPECT_LT(good.ate.stats.max, 1e-6);  // the estimate is the ground truth
+  EXPECT_NEAR(bad.ate.stats.rmse, 0.04, 1e-6);
+  EXPECT_EQ(good.gaussians, static_cast<long>(gaussians_));
+  EXPECT_GT(gaussians_, 1000u);
+
+  // Every 5th of 41 frames: 0, 5, ..., 40. Held-out: the 30 non-keyframes, every 5th of them.
+  EXPECT_EQ(good.quality.recorded_frames, 41u);
+  EXPECT_EQ(good.quality.keyframe_frames, 11u);
+  EXPECT_EQ(good.quality.every_nth.frames(), 9u);
+  EXPECT_EQ(good.quality.held_out.frames(), 6u);
+  for (const double t : good.quality.held_out.t_s)
+    for (const double kf : keyframes_) EXPECT_GT(std::abs(t - kf), 0.01) << t;
+
+  const double g = good.quality.every_nth.mean_psnr_db(), b = bad.quality.every_nth.mean_psnr_db();
+  std::cout << "PSNR every 5th: true " << g << " dB, perturbed " << b << " dB; held-out true "
+            << good.quality.held_out.mean_psnr_db() << " dB; SSIM true "
+            << good.quality.every_nth.mean_ssim() << ", perturbed "
+            << bad.quality.every_nth.mean_ssim() << "\n";
+  EXPECT_GT(g, 16.0);  // the corridor beyond the 10 m depth range is not in the map
+  EXPECT_GT(g, b + 3.0);
+  EXPECT_GT(good.quality.held_out.mean_psnr_db(), bad.quality.held_out.mean_psnr_db() + 3.0);
+  EXPECT_GT(good.quality.every_nth.mean_ssim(), bad.quality.every_nth.mean_ssim() + 0.05);
+  EXPECT_GT(good.quality.every_nth.mean_ssim(), 0.5);
+  EXPECT_LE(good.quality.every_nth.mean_ssim(), 1.0);
+
+  // The report states the numbers it measured.
+  EXPECT_NE(md.find("## Rendering quality (PSNR, SSIM)"), std::string::npos) << md;
+  char row[96];
+  std::snprintf(row, sizeof row, "| every 5th frame | 9 | %.2f |", g);
+  EXPECT_NE(md.find(row), std::string::npos) << md;
+  EXPECT_NE(md.find("| held-out (never keyframes) | 6 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| Gaussians in the map | " + std::to_string(gaussians_) + " | map.ply |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| frames processed | 41 | stats.json |"), std::string::npos) << md;
+  EXPECT_NE(md.find("stats.json frames / wall_s"), std::string::npos) << md;
+  EXPECT_EQ(md.find("| peak memory (RSS) [MiB] | not measured"), std::string::npos) << md;
+  EXPECT_NE(md.find("LPIPS"), std::string::npos);
+  EXPECT_EQ(md.find("**PSNR and SSIM**"), std::string::npos) << md;
+
+  // Rendered | recorded, three rows.
+  ASSERT_EQ(good.quality.side_by_side_t_s.size(), 3u);
+  const io::ImageU8 sbs = io::read_image_u8(good.quality.side_by_side_png);
+  EXPECT_EQ(sbs.width, 2 * 240);
+  EXPECT_EQ(sbs.height, 3 * 160);
+  EXPECT_EQ(sbs.channels, 3);
+  EXPECT_NE(md.find("![rendered vs recorded](plots/rendered_vs_recorded.png)"), std::string::npos);
+}
+
+TEST_F(RenderReportTest, MissingOptionalFilesAreReportedNotInvented) {
+  const fs::path d = dir_ / "partial";
+  fs::create_directories(d);
+  fs::copy_file(dir_ / kTrajectoryFile, d / kTrajectoryFile);
+  ReportResult r = write_report(options(d, kTrajectoryFile));
+  std::string md = read_all(r.report_path);
+  EXPECT_FALSE(r.quality_measured);
+  EXPECT_EQ(r.gaussians, -1);
+  EXPECT_EQ(r.missing.size(), 3u);
+  EXPECT_NE(md.find("**PSNR and SSIM** (every 5th frame and held-out frames) and the **rendered "
+                    "views beside the recording**: the results hold no map.ply."),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| Gaussians in the map | not measured | map.ply |"), std::string::npos);
+  EXPECT_NE(md.find("**Frames per second**: the results hold no stats.json."), std::string::npos);
+  EXPECT_NE(md.find("**Peak memory**: the results hold no stats.json."), std::string::npos);
+  EXPECT_EQ(md.find("## Rendering quality"), std::string::npos);
+
+  // A map but no keyframes.txt: every 5th frame measured, held-out stated as not measured.
+  fs::copy_file(dir_ / kMapFile, d / kMapFile);
+  write_text((d / kStatsFile).string(), "{\"fps\": 12.5}");
+  r = write_report(options(d, kTrajectoryFile));
+  md = read_all(r.report_path);
+  ASSERT_TRUE(r.quality_measured);
+  EXPECT_EQ(r.quality.every_nth.frames(), 9u);
+  EXPECT_EQ(r.quality.held_out.frames(), 0u);
+  EXPECT_NE(md.find("**PSNR and SSIM on held-out frames**: no keyframes.txt"), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| frames per second | 12.50 | stats.json fps |"), std::string::npos) << md;
+  EXPECT_NE(md.find("**Peak memory**: stats.json has no peak_rss_bytes."), std::string::npos);
+
+  // Damaged stats.json: a clear error naming the file.
+  write_text((d / kStatsFile).string(), "{\"fps\": fast}");
+  try {
+    write_report(options(d, kTrajectoryFile));
+    FAIL();
+  } catch (const ResultsFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("stats.json: byte 8"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace vigs::eval
