@@ -1,5 +1,7 @@
 #include "eval/mcap_frames.hpp"
 
+#include <cmath>
+#include <cstring>
 #include <optional>
 #include <stdexcept>
 
@@ -10,20 +12,55 @@
 #include "io/ros_msgs/typed_io.hpp"
 
 namespace vigs::eval {
+namespace {
+
+/// Gives the pending frame its depth when stamp and size match and the encoding is known.
+void attach_depth(const io::ros_msgs::Image& img, bool pending, RecordedFrame& f) {
+  if (!pending) return;
+  if (static_cast<double>(img.header.stamp.to_ns()) * 1e-9 != f.t_s) return;
+  const int w = static_cast<int>(img.width), h = static_cast<int>(img.height);
+  if (w != f.rgb.width || h != f.rgb.height || img.is_bigendian) return;
+  const int bytes = img.encoding == "16UC1" ? 2 : img.encoding == "32FC1" ? 4 : 0;
+  if (bytes == 0 || img.step < static_cast<std::uint32_t>(w * bytes) ||
+      img.data.size() < static_cast<std::size_t>(img.step) * static_cast<std::size_t>(h))
+    return;
+  f.depth_m = io::ImageF32(w, h, 1);
+  for (int y = 0; y < h; ++y) {
+    const std::uint8_t* row = img.data.data() + static_cast<std::size_t>(y) * img.step;
+    for (int x = 0; x < w; ++x) {
+      float z = 0;
+      if (bytes == 2) {
+        z = static_cast<float>(row[2 * x] | (row[2 * x + 1] << 8)) * 1e-3f;
+      } else {
+        std::memcpy(&z, row + 4 * x, 4);
+      }
+      f.depth_m.at(x, y) = std::isfinite(z) && z > 0 ? z : 0.0f;
+    }
+  }
+}
+
+}  // namespace
 
 McapFrameStats for_each_recorded_frame(const std::string& path,
                                        const std::function<void(const RecordedFrame&)>& fn,
-                                       const std::string& rgb_topic,
-                                       const std::string& info_topic) {
+                                       const std::string& rgb_topic, const std::string& info_topic,
+                                       const std::string& depth_topic) {
   McapFrameStats st;
   io::mcap::McapReaderOptions opt;
-  opt.topics = {rgb_topic, info_topic};
+  opt.topics = {rgb_topic, info_topic, depth_topic};
   io::mcap::McapReader reader(path, opt);
   io::mcap::MessageView m;
   io::ros_msgs::CameraInfo info;
   io::ros_msgs::Image img;
   std::optional<PinholeCamera> camera;
   RecordedFrame f;
+  bool pending = false;  // f waits for its depth image
+  const auto flush = [&] {
+    if (!pending) return;
+    pending = false;
+    ++st.frames;
+    fn(f);
+  };
   std::uint64_t index = 0;
   const auto where = [&](const std::string& what) {
     return std::runtime_error(path + ": " + m.channel->topic + " message at byte " +
@@ -42,9 +79,15 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
         continue;
       }
       if (!io::ros_msgs::decode_message(m, img)) throw where("not sensor_msgs/Image");
+      if (m.channel->topic == depth_topic) {
+        attach_depth(img, pending, f);
+        flush();
+        continue;
+      }
     } catch (const io::ros_msgs::DecodeError& e) {
       throw where(e.what());
     }
+    flush();
     const std::uint64_t i = index++;
     if (!camera) {
       ++st.without_camera_info;
@@ -76,9 +119,10 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
         }
       }
     }
-    ++st.frames;
-    fn(f);
+    f.depth_m = io::ImageF32();
+    pending = true;
   }
+  flush();
   return st;
 }
 

@@ -1,7 +1,10 @@
 #pragma once
 // Recorded colour frames from an MCAP recording, streamed one at a time: each sensor_msgs/Image
 // on the colour topic ("rgb8", "bgr8" or "mono8", converted to RGB) with the intrinsics of the
-// latest sensor_msgs/CameraInfo on the info topic (the simulator writes one before every frame).
+// latest sensor_msgs/CameraInfo on the info topic (the simulator writes one before every frame),
+// and the depth image on the depth topic with the same stamp, when it directly follows
+// ("16UC1" millimetres or "32FC1" metres; other encodings or sizes leave the frame without
+// depth).
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -13,12 +16,14 @@ namespace vigs::eval {
 
 inline constexpr const char* kRgbTopic = "/vigs/rgb";
 inline constexpr const char* kCameraInfoTopic = "/vigs/camera_info";
+inline constexpr const char* kDepthTopic = "/vigs/depth";
 
 struct RecordedFrame {
   std::uint64_t index = 0;  ///< 0-based position among the colour messages
   double t_s = 0;           ///< header stamp
   PinholeCamera camera;     ///< from the latest CameraInfo
   io::ImageU8 rgb;          ///< 3 channels
+  io::ImageF32 depth_m;     ///< same size, metres, 0 = invalid; empty when not recorded
 };
 
 struct McapFrameStats {
@@ -33,6 +38,7 @@ struct McapFrameStats {
 McapFrameStats for_each_recorded_frame(const std::string& path,
                                        const std::function<void(const RecordedFrame&)>& fn,
                                        const std::string& rgb_topic = kRgbTopic,
-                                       const std::string& info_topic = kCameraInfoTopic);
+                                       const std::string& info_topic = kCameraInfoTopic,
+                                       const std::string& depth_topic = kDepthTopic);
 
 }  // namespace vigs::eval

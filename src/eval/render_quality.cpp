@@ -11,6 +11,7 @@
 #include "io/image_io.hpp"
 #include "mapping/image_metrics.hpp"
 #include "mapping/rasterizer.hpp"
+#include "mapping/ssim.hpp"
 
 namespace vigs::eval {
 namespace {
@@ -48,6 +49,23 @@ std::string fmt(const char* f, double v) {
   return buf;
 }
 
+/// PSNR (peak 255) over the pixels whose mask is set.
+double masked_psnr(const io::ImageU8& a, const io::ImageU8& b, const std::vector<double>& mask) {
+  double se = 0;
+  std::size_t n = 0;
+  for (std::size_t p = 0; p < mask.size(); ++p) {
+    if (mask[p] == 0) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double d = static_cast<double>(a.data[3 * p + c]) - b.data[3 * p + c];
+      se += d * d;
+    }
+    n += 3;
+  }
+  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
+  if (se == 0) return std::numeric_limits<double>::infinity();
+  return 10.0 * std::log10(255.0 * 255.0 * static_cast<double>(n) / se);
+}
+
 }  // namespace
 
 double QualitySet::mean_psnr_db() const {
@@ -56,13 +74,19 @@ double QualitySet::mean_psnr_db() const {
 double QualitySet::mean_ssim() const {
   return mean_of(ssim);
 }
+double QualitySet::mean_psnr_valid_depth_db() const {
+  return mean_of(psnr_valid_depth_db);
+}
+double QualitySet::mean_ssim_valid_depth() const {
+  return mean_of(ssim_valid_depth);
+}
 double QualitySet::min_psnr_db() const {
   return psnr_db.empty() ? std::numeric_limits<double>::quiet_NaN()
                          : *std::min_element(psnr_db.begin(), psnr_db.end());
 }
 
 RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Trajectory& T_w_c,
-                                     const std::vector<double>& keyframe_t_s,
+                                     const std::vector<double>* keyframe_t_s,
                                      const std::string& mcap_path,
                                      const RenderQualityOptions& opt) {
   if (opt.every < 1) throw std::invalid_argument("render quality: every must be >= 1");
@@ -83,12 +107,16 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
   std::size_t next_target = 0;
   io::ImageU8 sbs;
   std::uint64_t held_out_seen = 0;
+  mapping::SsimOptions so;  // the convention of mapping::image_quality with kGaussian11
+  so.data_range = 255.0;
+  mapping::Ssim<double> masked_ssim(so);
+  std::vector<double> ref, test, mask;
   const auto stats = for_each_recorded_frame(mcap_path, [&](const RecordedFrame& f) {
-    const bool keyframe = near_any(keyframe_t_s, f.t_s, opt.keyframe_tol_s);
+    const bool keyframe = keyframe_t_s && near_any(*keyframe_t_s, f.t_s, opt.keyframe_tol_s);
     if (keyframe) ++q.keyframe_frames;
     const bool in_nth = f.index % static_cast<std::uint64_t>(opt.every) == 0;
     bool in_held_out = false;
-    if (!keyframe && !keyframe_t_s.empty()) {
+    if (!keyframe && keyframe_t_s) {
       in_held_out = held_out_seen % static_cast<std::uint64_t>(opt.every) == 0;
       ++held_out_seen;
     }
@@ -105,6 +133,22 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
       rendered.data[i] =
           static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(r.color[i], 0.0f, 1.0f)));
     const auto iq = mapping::image_quality(f.rgb, rendered, mapping::SsimWindow::kGaussian11);
+    double psnr_v = std::numeric_limits<double>::quiet_NaN(), ssim_v = psnr_v;
+    if (!f.depth_m.empty()) {
+      mask.resize(f.depth_m.data.size());
+      bool any = false;
+      for (std::size_t p = 0; p < mask.size(); ++p) {
+        mask[p] = f.depth_m.data[p] > 0 ? 1.0 : 0.0;
+        any = any || mask[p] != 0;
+      }
+      if (any) {
+        ref.assign(f.rgb.data.begin(), f.rgb.data.end());
+        test.assign(rendered.data.begin(), rendered.data.end());
+        psnr_v = masked_psnr(f.rgb, rendered, mask);
+        ssim_v = masked_ssim.evaluate(test.data(), ref.data(), f.rgb.width, f.rgb.height, 3,
+                                      mask.data(), nullptr);
+      }
+    }
     q.image_width = f.rgb.width;
     q.image_height = f.rgb.height;
     for (auto [set, on] : {std::pair{&q.every_nth, in_nth}, std::pair{&q.held_out, in_held_out}}) {
@@ -112,6 +156,10 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
       set->t_s.push_back(f.t_s);
       set->psnr_db.push_back(iq.psnr_db);
       set->ssim.push_back(iq.ssim);
+      if (!std::isnan(psnr_v)) {
+        set->psnr_valid_depth_db.push_back(psnr_v);
+        set->ssim_valid_depth.push_back(ssim_v);
+      }
     }
     if (in_nth && next_target < targets.size() && f.t_s >= targets[next_target]) {
       while (next_target < targets.size() && f.t_s >= targets[next_target]) ++next_target;
@@ -152,12 +200,17 @@ std::string render_quality_markdown(const RenderQuality& q, const RenderQualityO
         "over channels. Means are per-frame means. " +
         std::to_string(q.recorded_frames) + " colour frames recorded, " +
         std::to_string(q.keyframe_frames) + " of them keyframes.\n\n";
-  md += "| set | frames | mean PSNR [dB] | min PSNR [dB] | mean SSIM |\n|---|---|---|---|---|\n";
+  md +=
+      "| set | frames | mean PSNR [dB] | min PSNR [dB] | mean SSIM | frames with depth | mean "
+      "PSNR, valid depth [dB] | mean SSIM, valid depth |\n|---|---|---|---|---|---|---|---|\n";
   const auto row = [&](const std::string& name, const QualitySet& s) {
-    if (s.frames() == 0) return "| " + name + " | 0 | - | - | - |\n";
+    if (s.frames() == 0) return "| " + name + " | 0 | - | - | - | 0 | - | - |\n";
+    const std::size_t nd = s.psnr_valid_depth_db.size();
     return "| " + name + " | " + std::to_string(s.frames()) + " | " +
            fmt("%.2f", s.mean_psnr_db()) + " | " + fmt("%.2f", s.min_psnr_db()) + " | " +
-           fmt("%.4f", s.mean_ssim()) + " |\n";
+           fmt("%.4f", s.mean_ssim()) + " | " + std::to_string(nd) + " | " +
+           (nd ? fmt("%.2f", s.mean_psnr_valid_depth_db()) : std::string("-")) + " | " +
+           (nd ? fmt("%.4f", s.mean_ssim_valid_depth()) : std::string("-")) + " |\n";
   };
   md += row("every " + std::to_string(opt.every) + "th frame", q.every_nth);
   if (have_keyframes) md += row("held-out (never keyframes)", q.held_out);

@@ -7,9 +7,12 @@
 //               of n, keyframes included;
 //   held-out:   frames farther than keyframe_tol_s from every keyframe timestamp, of which every
 //               n-th (counted among those frames only) is used.
-// Means are per-frame means (PSNR averaged in dB, as 3DGS SLAM papers report). Frames without
-// an estimated pose within max_dt_s are skipped and counted. The map is rendered in its own
-// world frame at the unaligned estimate (the map and the estimate share one frame).
+// When the recording has a depth image for the frame, PSNR and SSIM are also given over the
+// pixels with valid depth only (SSIM: windows whose centre pixel has depth), the parts of the
+// scene a depth-fed map can hold. Means are per-frame means (PSNR averaged in dB, as 3DGS SLAM
+// papers report). Frames without an estimated pose within max_dt_s are skipped and counted. The map
+// is rendered in its own world frame at the unaligned estimate (the map and the estimate share one
+// frame).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,10 +35,14 @@ struct QualitySet {
   std::vector<double> t_s;  ///< stamps of the frames measured
   std::vector<double> psnr_db;
   std::vector<double> ssim;
+  std::vector<double> psnr_valid_depth_db;  ///< frames with a depth image only
+  std::vector<double> ssim_valid_depth;
   [[nodiscard]] std::size_t frames() const { return t_s.size(); }
   [[nodiscard]] double mean_psnr_db() const;
   [[nodiscard]] double mean_ssim() const;
   [[nodiscard]] double min_psnr_db() const;
+  [[nodiscard]] double mean_psnr_valid_depth_db() const;
+  [[nodiscard]] double mean_ssim_valid_depth() const;
 };
 
 struct RenderQuality {
@@ -50,11 +57,11 @@ struct RenderQuality {
   std::vector<double> side_by_side_t_s;  ///< stamps shown, top to bottom
 };
 
-/// `T_w_c` is the estimate as camera poses, sorted by time; `keyframe_t_s` sorted (may be
-/// empty: then the held-out set is empty). Throws std::runtime_error on unreadable recordings
-/// and std::invalid_argument on bad options.
+/// `T_w_c` is the estimate as camera poses, sorted by time; `keyframe_t_s` sorted, or null when
+/// the run did not say which frames were keyframes (then the held-out set stays empty). Throws
+/// std::runtime_error on unreadable recordings and std::invalid_argument on bad options.
 RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Trajectory& T_w_c,
-                                     const std::vector<double>& keyframe_t_s,
+                                     const std::vector<double>* keyframe_t_s,
                                      const std::string& mcap_path, const RenderQualityOptions& opt);
 
 /// Markdown section (## Rendering quality ...) of the report.

@@ -135,6 +135,7 @@ void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, Report
        {std::pair{have_map, kMapFile}, std::pair{have_kf, kKeyframesFile},
         std::pair{have_stats, kStatsFile}})
     if (!have) r.missing.emplace_back(name);
+  r.have_keyframes = have_kf;
   if (have_kf) r.keyframe_t_s = read_keyframe_times((dir / kKeyframesFile).string());
   if (have_stats) r.run_stats = read_run_stats((dir / kStatsFile).string());
   mapping::GaussianMap map;
@@ -152,7 +153,8 @@ void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, Report
     RenderQualityOptions q = opt.quality;
     fs::create_directories(dir / "plots");
     q.side_by_side_png = (dir / "plots" / "rendered_vs_recorded.png").string();
-    r.quality = measure_render_quality(map, cam, r.keyframe_t_s, opt.gt_path, q);
+    r.quality =
+        measure_render_quality(map, cam, have_kf ? &r.keyframe_t_s : nullptr, opt.gt_path, q);
     r.quality_measured = true;
     md_sections += render_quality_markdown(r.quality, q, have_kf, "plots/rendered_vs_recorded.png");
     if (!have_kf)
@@ -314,7 +316,10 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
   };
   const auto set_json = [&](const QualitySet& q) {
     return "{\"frames\": " + std::to_string(q.frames()) +
-           ", \"psnr_db\": " + num(q.mean_psnr_db()) + ", \"ssim\": " + num(q.mean_ssim()) + "}";
+           ", \"psnr_db\": " + num(q.mean_psnr_db()) + ", \"ssim\": " + num(q.mean_ssim()) +
+           ", \"frames_with_depth\": " + std::to_string(q.psnr_valid_depth_db.size()) +
+           ", \"psnr_valid_depth_db\": " + num(q.mean_psnr_valid_depth_db()) +
+           ", \"ssim_valid_depth\": " + num(q.mean_ssim_valid_depth()) + "}";
   };
   const auto opt_json = [&](const std::optional<double>& v) {
     return v ? num(*v) : std::string("null");
@@ -322,7 +327,7 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
   json += ", \"plots\": " + plots;
   if (r.quality_measured) {
     json += ", \"quality\": {\"every_nth\": " + set_json(r.quality.every_nth) + ", \"held_out\": " +
-            (r.keyframe_t_s.empty() ? std::string("null") : set_json(r.quality.held_out)) +
+            (!r.have_keyframes ? std::string("null") : set_json(r.quality.held_out)) +
             ", \"rendered_views\": \"" + r.quality.side_by_side_png + "\"}";
   } else {
     json += ", \"quality\": null";

@@ -42,6 +42,7 @@ struct ReportResult {
   RpeResult rpe_frame, rpe_metre;
   bool quality_measured = false;
   RenderQuality quality;
+  bool have_keyframes = false;       ///< keyframes.txt was present
   std::vector<double> keyframe_t_s;  ///< from keyframes.txt
   long gaussians = -1;               ///< from map.ply, -1 when not read
   RunStats run_stats;

@@ -202,6 +202,13 @@ TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
   EXPECT_GT(good.quality.held_out.mean_psnr_db(), bad.quality.held_out.mean_psnr_db() + 3.0);
   EXPECT_GT(good.quality.every_nth.mean_ssim(), bad.quality.every_nth.mean_ssim() + 0.05);
   EXPECT_GT(good.quality.every_nth.mean_ssim(), 0.5);
+  // Over pixels with valid depth (the corridor beyond 10 m excluded) the map matches better.
+  ASSERT_EQ(good.quality.every_nth.psnr_valid_depth_db.size(), 9u);
+  std::cout << "valid depth: PSNR " << good.quality.every_nth.mean_psnr_valid_depth_db()
+            << " dB, SSIM " << good.quality.every_nth.mean_ssim_valid_depth() << "\n";
+  EXPECT_GT(good.quality.every_nth.mean_psnr_valid_depth_db(), g + 1.0);
+  EXPECT_GT(good.quality.every_nth.mean_psnr_valid_depth_db(),
+            bad.quality.every_nth.mean_psnr_valid_depth_db() + 3.0);
   EXPECT_LE(good.quality.every_nth.mean_ssim(), 1.0);
 
   // The report states the numbers it measured.
