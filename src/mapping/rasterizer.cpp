@@ -28,6 +28,7 @@ Rasterizer<T>::Rasterizer(RasterSettings settings, WorkerPool* pool)
   gather_.resize(n);
   tile_grad_.resize(n);
   thread_grad_.resize(n);
+  simd_scratch_.resize(n);
 }
 
 template <class T>
@@ -183,6 +184,8 @@ void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const Rende
   const int nt = threads();
   const int n_tiles = tiles_x_ * tiles_y_;
   // Accumulated opacity is 1 - T_final: its gradient enters as dL/dalpha.
+  bool simd = false;
+  if constexpr (std::is_same_v<T, float>) simd = settings_.use_simd && avx2_kernel_available();
   run([&](int t) {
     auto& acc = thread_grad_[static_cast<std::size_t>(t)];
     acc.assign(kGradPerGaussian * n, T(0));
@@ -196,8 +199,20 @@ void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const Rende
       if (b == e) continue;
       gather_tile(tile, buf, g);
       tg.assign(static_cast<std::size_t>(e - b), TileGrad<T>{});
-      backward_tile_scalar(rect, buf.data(), settings_, out.width, out.final_T.data(),
-                           out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data());
+      bool done = false;
+      if constexpr (std::is_same_v<T, float>) {
+        if (simd) {
+          auto& scratch = simd_scratch_[static_cast<std::size_t>(t)];
+          scratch.resize(static_cast<std::size_t>(e - b) * 80);
+          backward_tile_avx2(rect, buf.data(), e - b, settings_, out.width, out.final_T.data(),
+                             out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data(),
+                             scratch.data());
+          done = true;
+        }
+      }
+      if (!done)
+        backward_tile_scalar(rect, buf.data(), settings_, out.width, out.final_T.data(),
+                             out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data());
       for (int k = b; k < e; ++k) {
         const TileGrad<T>& s = tg[static_cast<std::size_t>(k - b)];
         T* a = &acc[kGradPerGaussian * static_cast<std::size_t>(tile_ids_[k])];
