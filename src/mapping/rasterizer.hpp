@@ -92,8 +92,10 @@ class Rasterizer {
   std::vector<int> tile_cursor_;
   std::vector<std::vector<TileGaussian<T>>> gather_;  ///< per thread
   std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread
-  std::vector<std::vector<T>> thread_grad_;           ///< per thread, 10 per Gaussian
-  std::vector<std::vector<float>> simd_scratch_;      ///< per thread, AVX2 backward sums
+  std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
+  int n_visible_ = 0;
+  std::vector<std::vector<T>> thread_grad_;       ///< per thread, 10 per visible Gaussian
+  std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
   bool used_simd_ = false;
 };
 
