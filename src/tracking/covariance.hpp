@@ -1,0 +1,41 @@
+#pragma once
+// Per-point covariances from the k nearest neighbours, and their regularisation.
+//
+// Raw covariance: sample covariance of the point's k nearest neighbours (the point itself
+// included), divided by the neighbour count; metres squared. It is stored unchanged in
+// GaussianCloud::cov_raw_m2 for the mapper.
+//
+// Regularised covariance (GaussianCloud::cov_m2, used by GICP), from the eigen-decomposition
+// C = U diag(l1 >= l2 >= l3) U^T of the raw covariance:
+//  - normalized_ellipse: GS-ICP SLAM's NORMALIZED_ELLIPSE (its fast_gicp fork, branch
+//    gs_icp_slam, FastGICP::calculate_covariances): eigenvalues divided by the MIDDLE one,
+//    (l1/l2, 1, l3/l2), each clamped below at epsilon (1e-3). The ellipse keeps its shape
+//    but is scale-free (dimensionless). GS-ICP sets 1e-9*I when l2 == 0 (collinear or
+//    coincident neighbours); we use the identity there instead, because a near-zero
+//    covariance would outweigh every other correspondence.
+//  - plane: U diag(1, 1, epsilon) U^T (fast_gicp's PLANE): every point a flat disc.
+//  - none: the raw covariance (m^2), unchanged.
+#include "tracking/fork_join.hpp"
+#include "tracking/gaussian_cloud.hpp"
+#include "tracking/kdtree.hpp"
+
+namespace vigs::tracking {
+
+enum class Regularization { normalized_ellipse, plane, none };
+
+struct CovarianceSetting {
+  int k_neighbors = 10;  ///< includes the point itself, as GS-ICP SLAM's kd-tree query does
+  Regularization regularization = Regularization::normalized_ellipse;
+  double epsilon = 1e-3;  ///< smallest regularised eigenvalue
+};
+
+/// Regularised covariance of one raw covariance (see the header comment).
+Eigen::Matrix3f regularize_covariance(const Eigen::Matrix3f& raw_m2,
+                                      const CovarianceSetting& setting);
+
+/// Fills cloud.cov_raw_m2 and cloud.cov_m2 for every point; `tree` must index
+/// cloud.points_m. Points are split into fixed chunks over `team`.
+void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, ForkJoin& team,
+                          GaussianCloud& cloud);
+
+}  // namespace vigs::tracking

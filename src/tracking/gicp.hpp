@@ -1,0 +1,118 @@
+#pragma once
+// Generalized ICP (Segal et al. 2009) over SE(3): minimises
+//   sum_i rho( d_i^T (C_t,i + R C_s,i R^T)^-1 d_i ),  d_i = q_i - T p_i,
+// with nearest-neighbour correspondences bounded by a maximum distance, a robust kernel,
+// and Levenberg–Marquardt steps (gicp_factor.hpp gives the parameterisation).
+//
+// Direction: align(target, source, T_t_s_init) returns T_t_s, the pose that maps SOURCE
+// points into the TARGET frame (p_t = T_t_s * p_s). For two camera frames with poses
+// T_w_0 (source) and T_w_2 (target) that is T_w_2^-1 * T_w_0.
+//
+// Determinism: each linearisation splits the source points into fixed contiguous chunks,
+// one per thread, and sums the per-thread partial H, b in thread order, so the result is
+// bit-identical run to run for the same num_threads.
+#include <string_view>
+#include <vector>
+
+#include "core/geometry/se3.hpp"
+#include "tracking/fork_join.hpp"
+#include "tracking/gaussian_cloud.hpp"
+#include "tracking/gicp_factor.hpp"
+#include "tracking/kdtree.hpp"
+
+namespace vigs::tracking {
+
+enum class GicpVerdict {
+  converged,      ///< increments fell below both thresholds
+  not_converged,  ///< max_iterations reached first
+  diverged,       ///< too few correspondences, or non-finite numbers
+  degenerate,     ///< the Hessian leaves a direction unconstrained (see degenerate_eigen_ratio)
+};
+std::string_view to_string(GicpVerdict verdict);
+
+struct GicpResult {
+  geometry::Pose T_t_s = geometry::Pose::Identity();  ///< source -> target
+  /// Gauss–Newton Hessian sum w J^T M J at T_t_s: the information matrix of the left
+  /// increment xi = [rotation (rad); translation (m)] in the target frame.
+  Matrix6d information = Matrix6d::Zero();
+  double inlier_ratio = 0.0;   ///< source points with a correspondence / source points
+  double overlap_ratio = 0.0;  ///< source points with a target point within overlap distance
+  int num_inliers = 0;
+  int iterations = 0;        ///< accepted + rejected LM steps
+  double cost = 0.0;         ///< robust cost at T_t_s
+  double eigen_ratio = 0.0;  ///< min/max eigenvalue of the scaled Hessian (degeneracy test)
+  GicpVerdict verdict = GicpVerdict::diverged;
+};
+
+class Gicp {
+ public:
+  struct Setting {
+    double max_correspondence_distance_m = 0.1;
+    RobustKernel kernel = RobustKernel::huber;
+    double kernel_width = 0.5;  ///< on sqrt(d^T M d)
+    int max_iterations = 30;
+    double rotation_eps_rad = 0.1 * 3.14159265358979323846 / 180.0;
+    double translation_eps_m = 1e-3;
+    double lm_lambda_init = 1e-6;  ///< initial damping of H + lambda I
+    /// Degenerate when min/max eigenvalue of the Hessian is below this, after re-expressing
+    /// rotations about the centroid of the matched points and scaling them by the RMS spread
+    /// about it (gicp_impl.hpp). A single plane gives about epsilon (1e-3).
+    double degenerate_eigen_ratio = 1e-2;
+    double overlap_distance_m = 0.022;  ///< for GicpResult::overlap_ratio
+    int min_inliers = 20;               ///< fewer correspondences: diverged
+    int num_threads = 2;
+  };
+
+  Gicp();
+  explicit Gicp(const Setting& setting);
+
+  /// Target: anything with nearest(q, max_sq_dist, index, sq_dist), point(i) and cov(i)
+  /// (CloudTarget below, LocalMap). Source covariances are source.cov_m2.
+  template <class Target>
+  GicpResult align(const Target& target, const GaussianCloud& source,
+                   const geometry::Pose& T_t_s_init);
+
+  [[nodiscard]] const Setting& setting() const { return setting_; }
+
+ private:
+  struct Partial {
+    Matrix6d H;
+    Vector6d b;
+    double cost;
+    double sum_sq_range;
+    Eigen::Vector3d sum_y;
+    int inliers;
+    int overlapping;
+  };
+  struct Linearization {
+    Matrix6d H = Matrix6d::Zero();
+    Vector6d b = Vector6d::Zero();
+    double cost = 0.0;
+    double sum_sq_range = 0.0;
+    Eigen::Vector3d sum_y = Eigen::Vector3d::Zero();
+    int inliers = 0;
+    int overlapping = 0;
+  };
+  template <class Target>
+  Linearization linearize(const Target& target, const GaussianCloud& source,
+                          const geometry::Pose& T_t_s);
+
+  Setting setting_;
+  ForkJoin team_;
+  std::vector<Partial> partials_;
+};
+
+/// GICP target made of one frame's cloud and a kd-tree over its points.
+struct CloudTarget {
+  const GaussianCloud* cloud = nullptr;
+  const KdTree* tree = nullptr;
+
+  bool nearest(const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t& index,
+               float& sq_dist) const {
+    return tree->nearest(q, max_sq_dist, index, sq_dist);
+  }
+  [[nodiscard]] const Eigen::Vector3f& point(std::uint32_t i) const { return cloud->points_m[i]; }
+  [[nodiscard]] const Eigen::Matrix3f& cov(std::uint32_t i) const { return cloud->cov_m2[i]; }
+};
+
+}  // namespace vigs::tracking

@@ -1,0 +1,147 @@
+#pragma once
+// Template bodies of Gicp::align / Gicp::linearize. Included only by the .cpp files that
+// instantiate them for a target type (gicp.cpp: CloudTarget; local_map.cpp: LocalMap).
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "tracking/gicp.hpp"
+
+namespace vigs::tracking {
+
+template <class Target>
+Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& source,
+                                    const geometry::Pose& T_t_s) {
+  const Eigen::Matrix3d R = T_t_s.linear();
+  const Eigen::Vector3d t = T_t_s.translation();
+  const float max_sq = static_cast<float>(setting_.max_correspondence_distance_m *
+                                          setting_.max_correspondence_distance_m);
+  const float overlap_sq =
+      static_cast<float>(setting_.overlap_distance_m * setting_.overlap_distance_m);
+  const std::size_t n = source.size();
+  team_.run([&](int th) {
+    Partial& part = partials_[static_cast<std::size_t>(th)];
+    part.H.setZero();
+    part.b.setZero();
+    part.cost = 0.0;
+    part.sum_sq_range = 0.0;
+    part.sum_y.setZero();
+    part.inliers = 0;
+    part.overlapping = 0;
+    std::size_t begin = 0, end = 0;
+    ForkJoin::chunk(n, th, team_.size(), begin, end);
+    for (std::size_t i = begin; i < end; ++i) {
+      const Eigen::Vector3d y = R * source.points_m[i].cast<double>() + t;
+      std::uint32_t j = 0;
+      float d2 = 0.0f;
+      if (!target.nearest(y.cast<float>(), max_sq, j, d2)) {
+        continue;
+      }
+      Eigen::Matrix3d M;
+      if (!gicp_information(target.cov(j).template cast<double>(), R,
+                            source.cov_m2[i].cast<double>(), M)) {
+        continue;
+      }
+      const Eigen::Vector3d r = target.point(j).template cast<double>() - y;
+      part.cost +=
+          accumulate_gicp_factor(y, r, M, setting_.kernel, setting_.kernel_width, part.H, part.b);
+      part.sum_y += y;
+      part.sum_sq_range += y.squaredNorm();
+      ++part.inliers;
+      if (d2 <= overlap_sq) {
+        ++part.overlapping;
+      }
+    }
+  });
+  Linearization lin;
+  for (const Partial& part : partials_) {  // fixed order: bit-identical sums
+    lin.H += part.H;
+    lin.b += part.b;
+    lin.cost += part.cost;
+    lin.sum_sq_range += part.sum_sq_range;
+    lin.sum_y += part.sum_y;
+    lin.inliers += part.inliers;
+    lin.overlapping += part.overlapping;
+  }
+  return lin;
+}
+
+template <class Target>
+GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
+                       const geometry::Pose& T_t_s_init) {
+  GicpResult result;
+  geometry::Pose T = T_t_s_init;
+  Linearization lin = linearize(target, source, T);
+  double lambda = setting_.lm_lambda_init;
+  bool converged = false;
+  int iterations = 0;
+  while (iterations < setting_.max_iterations && lin.inliers >= setting_.min_inliers) {
+    ++iterations;
+    const Matrix6d A = lin.H + lambda * Matrix6d::Identity();
+    const Vector6d dx = A.ldlt().solve(-lin.b);
+    if (!dx.allFinite()) {
+      break;
+    }
+    geometry::Pose T_new = geometry::se3_exp_rot_trans(dx) * T;
+    T_new.linear() = geometry::normalize_rotation<double>(T_new.linear());
+    if (dx.head<3>().norm() < setting_.rotation_eps_rad &&
+        dx.tail<3>().norm() < setting_.translation_eps_m) {
+      // Converged: take the small final step without another correspondence search. H,
+      // inliers and cost are those of the last linearisation, at most eps away.
+      T = T_new;
+      converged = true;
+      break;
+    }
+    Linearization lin_new = linearize(target, source, T_new);
+    // Accept when the cost does not rise; fewer inliers can only lower the cost, so a step
+    // that loses most of them is refused as well.
+    if (lin_new.inliers >= setting_.min_inliers && lin_new.cost <= lin.cost &&
+        2 * lin_new.inliers >= lin.inliers) {
+      T = T_new;
+      lin = lin_new;
+      lambda = std::max(lambda * 0.1, 1e-12);
+    } else {
+      lambda = std::max(lambda, 1e-6) * 10.0;
+      if (lambda > 1e6) {
+        // No descent direction left: the current pose is a (local) minimum.
+        converged = dx.head<3>().norm() < 10.0 * setting_.rotation_eps_rad &&
+                    dx.tail<3>().norm() < 10.0 * setting_.translation_eps_m;
+        break;
+      }
+    }
+  }
+  result.T_t_s = T;
+  result.information = lin.H;
+  result.iterations = iterations;
+  result.cost = lin.cost;
+  result.num_inliers = lin.inliers;
+  const double n = static_cast<double>(std::max<std::size_t>(source.size(), 1));
+  result.inlier_ratio = lin.inliers / n;
+  result.overlap_ratio = lin.overlapping / n;
+
+  if (lin.inliers < setting_.min_inliers || !lin.H.allFinite() || !T.matrix().allFinite()) {
+    result.verdict = GicpVerdict::diverged;
+    return result;
+  }
+  // Degeneracy: re-express H for rotations about the centroid c of the matched points
+  // (xi = G xi_c, G = [I 0; [c]x I]), scale rotations by the RMS spread L about c, and
+  // compare the extreme eigenvalues.
+  const Eigen::Vector3d c = lin.sum_y / lin.inliers;
+  const double L2 = std::max(lin.sum_sq_range / lin.inliers - c.squaredNorm(), 1e-6);
+  Matrix6d G = Matrix6d::Identity();
+  G.bottomLeftCorner<3, 3>() = geometry::hat<double>(c);
+  Vector6d s;
+  s << Eigen::Vector3d::Constant(1.0 / std::sqrt(L2)), Eigen::Vector3d::Ones();
+  const Matrix6d Hs = s.asDiagonal() * (G.transpose() * lin.H * G) * s.asDiagonal();
+  const Vector6d ev =
+      Eigen::SelfAdjointEigenSolver<Matrix6d>(Hs, Eigen::EigenvaluesOnly).eigenvalues();
+  result.eigen_ratio = ev(5) > 0.0 ? std::max(ev(0), 0.0) / ev(5) : 0.0;
+  if (result.eigen_ratio < setting_.degenerate_eigen_ratio) {
+    result.verdict = GicpVerdict::degenerate;
+  } else {
+    result.verdict = converged ? GicpVerdict::converged : GicpVerdict::not_converged;
+  }
+  return result;
+}
+
+}  // namespace vigs::tracking

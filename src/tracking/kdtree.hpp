@@ -1,0 +1,56 @@
+#pragma once
+// A static 3-D kd-tree over float points, written for this project: median split on the
+// widest axis, leaves of a few points stored contiguously, and the incremental
+// distance-to-cell bound (Arya & Mount) for pruning. build() reuses its buffers, so a tree
+// rebuilt every frame stops allocating once it has seen its largest cloud.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace vigs::tracking {
+
+class KdTree {
+ public:
+  struct Setting {
+    int leaf_size = 8;  ///< points per leaf
+  };
+  static constexpr int kMaxK = 64;
+
+  KdTree() = default;
+  explicit KdTree(const Setting& setting) : setting_(setting) {}
+
+  /// Indexes a copy of `points` (the caller may change them afterwards).
+  void build(const std::vector<Eigen::Vector3f>& points);
+
+  /// The k (<= kMaxK) nearest points to q, nearest first: original indices and squared
+  /// distances (m^2). Returns how many were found (< k only when the tree is smaller).
+  int knn(const Eigen::Vector3f& q, int k, std::uint32_t* indices, float* sq_dists) const;
+
+  /// Nearest point within sqrt(max_sq_dist); false when there is none.
+  bool nearest(const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t& index,
+               float& sq_dist) const;
+
+  [[nodiscard]] std::size_t size() const { return points_.size(); }
+  /// Point i in the caller's original order.
+  [[nodiscard]] const Eigen::Vector3f& point(std::uint32_t i) const { return points_[slot_of_[i]]; }
+
+ private:
+  struct Node {
+    float split = 0.0f;
+    std::uint32_t begin = 0, end = 0;  ///< leaf: range in points_
+    std::uint32_t right = 0;           ///< inner: right child (left child is this + 1)
+    std::int32_t axis = -1;            ///< -1 for a leaf
+  };
+  struct Result;
+  std::uint32_t build_node(std::uint32_t begin, std::uint32_t end);
+  void search(std::uint32_t node, const Eigen::Vector3f& q, float rd, float* off,
+              Result& result) const;
+
+  Setting setting_;
+  std::vector<Eigen::Vector3f> points_;  ///< reordered so each leaf is contiguous
+  std::vector<std::uint32_t> index_;     ///< slot -> original index
+  std::vector<std::uint32_t> slot_of_;   ///< original index -> slot
+  std::vector<Node> nodes_;
+};
+
+}  // namespace vigs::tracking

@@ -1,0 +1,209 @@
+#include "tracking/local_map.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "tracking/gicp_impl.hpp"
+
+namespace vigs::tracking {
+
+namespace {
+constexpr std::int64_t kAxisBits = 21;
+constexpr std::int64_t kAxisBias = std::int64_t{1} << (kAxisBits - 1);
+constexpr std::int64_t kAxisMask = (std::int64_t{1} << kAxisBits) - 1;
+
+std::int64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
+  return (((x + kAxisBias) & kAxisMask) << (2 * kAxisBits)) |
+         (((y + kAxisBias) & kAxisMask) << kAxisBits) | ((z + kAxisBias) & kAxisMask);
+}
+void unpack(std::int64_t key, std::int64_t& x, std::int64_t& y, std::int64_t& z) {
+  x = ((key >> (2 * kAxisBits)) & kAxisMask) - kAxisBias;
+  y = ((key >> kAxisBits) & kAxisMask) - kAxisBias;
+  z = (key & kAxisMask) - kAxisBias;
+}
+}  // namespace
+
+LocalMap::LocalMap() : LocalMap(Setting{}) {}
+
+LocalMap::LocalMap(const Setting& setting) : setting_(setting) {
+  setting_.max_voxels = std::max(1, setting_.max_voxels);
+  setting_.points_per_voxel = std::max(1, setting_.points_per_voxel);
+  inv_voxel_ = static_cast<float>(1.0 / setting_.voxel_m);
+  const auto nv = static_cast<std::size_t>(setting_.max_voxels);
+  points_w_.resize(nv * static_cast<std::size_t>(setting_.points_per_voxel));
+  covs_w_.resize(points_w_.size());
+  voxels_.resize(nv);
+  table_.assign(std::bit_ceil(2 * nv), kEmpty);
+  free_.reserve(nv);
+  scratch_.reserve(nv);
+  clear();
+}
+
+void LocalMap::clear() {
+  std::fill(table_.begin(), table_.end(), kEmpty);
+  free_.clear();
+  for (std::size_t s = voxels_.size(); s-- > 0;) {
+    voxels_[s] = Voxel{};
+    free_.push_back(static_cast<std::uint32_t>(s));
+  }
+  num_points_ = 0;
+  num_voxels_ = 0;
+}
+
+std::size_t LocalMap::memory_bytes() const {
+  return points_w_.capacity() * sizeof(Eigen::Vector3f) +
+         covs_w_.capacity() * sizeof(Eigen::Matrix3f) + voxels_.capacity() * sizeof(Voxel) +
+         table_.capacity() * sizeof(std::uint32_t) + free_.capacity() * sizeof(std::uint32_t) +
+         scratch_.capacity() * sizeof(scratch_[0]);
+}
+
+std::int64_t LocalMap::key_of(const Eigen::Vector3f& p) const {
+  return pack(static_cast<std::int64_t>(std::floor(p.x() * inv_voxel_)),
+              static_cast<std::int64_t>(std::floor(p.y() * inv_voxel_)),
+              static_cast<std::int64_t>(std::floor(p.z() * inv_voxel_)));
+}
+
+std::uint32_t LocalMap::home(std::int64_t key) const {
+  auto h = static_cast<std::uint64_t>(key) * 0x9E3779B97F4A7C15ull;
+  h ^= h >> 29;
+  return static_cast<std::uint32_t>(h & (table_.size() - 1));
+}
+
+std::uint32_t LocalMap::find(std::int64_t key) const {
+  const std::size_t mask = table_.size() - 1;
+  for (std::size_t i = home(key);; i = (i + 1) & mask) {
+    const std::uint32_t slot = table_[i];
+    if (slot == kEmpty) return kEmpty;
+    if (voxels_[slot].key == key) return slot;
+  }
+}
+
+std::uint32_t LocalMap::add_voxel(std::int64_t key) {
+  if (free_.empty()) return kEmpty;
+  const std::uint32_t slot = free_.back();
+  free_.pop_back();
+  voxels_[slot] = Voxel{key, stamp_, 0, true};
+  const std::size_t mask = table_.size() - 1;
+  std::size_t i = home(key);
+  while (table_[i] != kEmpty) i = (i + 1) & mask;
+  table_[i] = slot;
+  ++num_voxels_;
+  return slot;
+}
+
+void LocalMap::remove_voxel(std::uint32_t slot) {
+  const std::size_t mask = table_.size() - 1;
+  std::size_t i = home(voxels_[slot].key);
+  while (table_[i] != slot) i = (i + 1) & mask;
+  // Backward-shift deletion keeps every probe chain unbroken without tombstones.
+  for (;;) {
+    table_[i] = kEmpty;
+    std::size_t j = i;
+    for (;;) {
+      j = (j + 1) & mask;
+      if (table_[j] == kEmpty) {
+        num_points_ -= static_cast<std::size_t>(voxels_[slot].count);
+        voxels_[slot] = Voxel{};
+        free_.push_back(slot);
+        --num_voxels_;
+        return;
+      }
+      const std::size_t k = home(voxels_[table_[j]].key);
+      const bool stays = i <= j ? (i < k && k <= j) : (i < k || k <= j);
+      if (!stays) break;
+    }
+    table_[i] = table_[j];
+    i = j;
+  }
+}
+
+void LocalMap::evict_far(const Eigen::Vector3d& position_w) {
+  const double r2 = setting_.radius_m * setting_.radius_m;
+  for (std::uint32_t s = 0; s < voxels_.size(); ++s) {
+    if (!voxels_[s].used) continue;
+    std::int64_t x = 0, y = 0, z = 0;
+    unpack(voxels_[s].key, x, y, z);
+    const Eigen::Vector3d centre =
+        (Eigen::Vector3d(static_cast<double>(x), static_cast<double>(y), static_cast<double>(z)) +
+         Eigen::Vector3d::Constant(0.5)) *
+        setting_.voxel_m;
+    if ((centre - position_w).squaredNorm() > r2) remove_voxel(s);
+  }
+}
+
+void LocalMap::evict_least_recent(std::size_t count) {
+  scratch_.clear();
+  for (std::uint32_t s = 0; s < voxels_.size(); ++s) {
+    if (voxels_[s].used) scratch_.emplace_back(voxels_[s].last_seen, s);
+  }
+  const std::size_t evict = std::min(count, scratch_.size());
+  std::nth_element(scratch_.begin(), scratch_.begin() + static_cast<std::ptrdiff_t>(evict),
+                   scratch_.end());
+  for (std::size_t e = 0; e < evict; ++e) remove_voxel(scratch_[e].second);
+}
+
+void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c) {
+  ++stamp_;
+  evict_far(T_w_c.translation());
+  const Eigen::Matrix3f R = T_w_c.linear().cast<float>();
+  const Eigen::Vector3f t = T_w_c.translation().cast<float>();
+  const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
+  for (std::size_t i = 0; i < cloud_c.size(); ++i) {
+    const Eigen::Vector3f p = R * cloud_c.points_m[i] + t;
+    const std::int64_t key = key_of(p);
+    std::uint32_t slot = find(key);
+    if (slot == kEmpty) {
+      if (free_.empty()) {
+        // Pool full: free a sixteenth of it, least recently seen first (voxels this
+        // keyframe already touched carry the newest stamp and go last).
+        evict_least_recent(std::max<std::size_t>(1, voxels_.size() / 16));
+      }
+      slot = add_voxel(key);
+      if (slot == kEmpty) continue;
+    }
+    Voxel& v = voxels_[slot];
+    v.last_seen = stamp_;
+    if (static_cast<std::size_t>(v.count) >= P) continue;
+    const std::size_t at = slot * P + static_cast<std::size_t>(v.count);
+    points_w_[at] = p;
+    covs_w_[at] = R * cloud_c.cov_m2[i] * R.transpose();
+    ++v.count;
+    ++num_points_;
+  }
+}
+
+bool LocalMap::nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
+                       float& sq_dist) const {
+  const auto cx = static_cast<std::int64_t>(std::floor(q_w.x() * inv_voxel_));
+  const auto cy = static_cast<std::int64_t>(std::floor(q_w.y() * inv_voxel_));
+  const auto cz = static_cast<std::int64_t>(std::floor(q_w.z() * inv_voxel_));
+  const auto P = static_cast<std::uint32_t>(setting_.points_per_voxel);
+  float best = max_sq_dist;
+  bool found = false;
+  for (std::int64_t dx = -1; dx <= 1; ++dx) {
+    for (std::int64_t dy = -1; dy <= 1; ++dy) {
+      for (std::int64_t dz = -1; dz <= 1; ++dz) {
+        const std::uint32_t slot = find(pack(cx + dx, cy + dy, cz + dz));
+        if (slot == kEmpty) continue;
+        const std::uint32_t base = slot * P;
+        const auto n = static_cast<std::uint32_t>(voxels_[slot].count);
+        for (std::uint32_t k = 0; k < n; ++k) {
+          const float d2 = (points_w_[base + k] - q_w).squaredNorm();
+          if (d2 < best) {
+            best = d2;
+            index = base + k;
+            found = true;
+          }
+        }
+      }
+    }
+  }
+  if (found) sq_dist = best;
+  return found;
+}
+
+template GicpResult Gicp::align<LocalMap>(const LocalMap&, const GaussianCloud&,
+                                          const geometry::Pose&);
+
+}  // namespace vigs::tracking

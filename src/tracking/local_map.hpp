@@ -1,0 +1,95 @@
+#pragma once
+// The tracker's GICP target: keyframe Gaussians in WORLD coordinates, held in a bounded voxel
+// hash that is updated incrementally (no rebuild per keyframe).
+//
+// Layout: a fixed pool of `max_voxels` voxels of edge `voxel_m`, each with room for
+// `points_per_voxel` points (position and covariance in world) and a last-seen stamp, plus
+// an open-addressing hash (linear probing, backward-shift deletion) from voxel coordinates
+// to pool slots. Everything is allocated in the constructor; insert, evict and nearest never
+// allocate.
+//
+// Bound: at most max_voxels * points_per_voxel points. Memory is fixed at construction:
+// max_voxels * points_per_voxel * 48 B (point 12 B + covariance 36 B) + max_voxels * 24 B
+// of voxel records + 2-4 * max_voxels * 4 B of hash table. Defaults (16384 voxels x 20
+// points): 327,680 points, about 16 MB.
+//
+// Policy: a keyframe's points go to the voxel they fall in; a full voxel keeps its points
+// (later ones are dropped) but is stamped as seen. Voxels farther than `radius_m` from the
+// camera are evicted before each insertion; when the pool runs out of free voxels during an
+// insertion, the least recently seen sixteenth of the pool is evicted (ties by slot, so the
+// map is deterministic).
+//
+// Correspondences: nearest() scans the query's voxel and its 26 neighbours, so it is exact
+// for search radii up to voxel_m (the config requires voxel_m >= max correspondence dist).
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "core/geometry/se3.hpp"
+#include "tracking/gaussian_cloud.hpp"
+
+namespace vigs::tracking {
+
+class LocalMap {
+ public:
+  struct Setting {
+    double voxel_m = 0.1;
+    int points_per_voxel = 20;
+    int max_voxels = 16384;
+    double radius_m = 6.0;
+  };
+
+  LocalMap();
+  explicit LocalMap(const Setting& setting);
+
+  /// Evicts voxels farther than radius_m from the camera, makes room by least-recently-seen
+  /// eviction if needed, then inserts the cloud (camera frame) at T_w_c with a new stamp.
+  void insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c);
+  /// Evicts every voxel whose centre is farther than radius_m from `position_w`.
+  void evict_far(const Eigen::Vector3d& position_w);
+  void clear();
+
+  // GICP target interface (world frame).
+  bool nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
+               float& sq_dist) const;
+  [[nodiscard]] const Eigen::Vector3f& point(std::uint32_t i) const { return points_w_[i]; }
+  [[nodiscard]] const Eigen::Matrix3f& cov(std::uint32_t i) const { return covs_w_[i]; }
+
+  [[nodiscard]] std::size_t num_points() const { return num_points_; }
+  [[nodiscard]] std::size_t num_voxels() const { return num_voxels_; }
+  [[nodiscard]] std::size_t max_points() const { return points_w_.size(); }
+  /// Bytes held by the map's buffers (constant after construction).
+  [[nodiscard]] std::size_t memory_bytes() const;
+  [[nodiscard]] std::uint64_t stamp() const { return stamp_; }
+  [[nodiscard]] const Setting& setting() const { return setting_; }
+
+ private:
+  struct Voxel {
+    std::int64_t key = 0;
+    std::uint64_t last_seen = 0;
+    std::int32_t count = 0;
+    bool used = false;
+  };
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;
+
+  [[nodiscard]] std::int64_t key_of(const Eigen::Vector3f& p) const;
+  [[nodiscard]] std::uint32_t home(std::int64_t key) const;
+  [[nodiscard]] std::uint32_t find(std::int64_t key) const;  ///< slot or kEmpty
+  std::uint32_t add_voxel(std::int64_t key);                 ///< kEmpty when the pool is full
+  void remove_voxel(std::uint32_t slot);
+  void evict_least_recent(std::size_t count);
+
+  Setting setting_;
+  float inv_voxel_ = 10.0f;
+  std::vector<Eigen::Vector3f> points_w_;
+  std::vector<Eigen::Matrix3f> covs_w_;
+  std::vector<Voxel> voxels_;
+  std::vector<std::uint32_t> table_;                              ///< hash position -> voxel slot
+  std::vector<std::uint32_t> free_;                               ///< free voxel slots (stack)
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> scratch_;  ///< LRU selection
+  std::size_t num_points_ = 0;
+  std::size_t num_voxels_ = 0;
+  std::uint64_t stamp_ = 0;
+};
+
+}  // namespace vigs::tracking

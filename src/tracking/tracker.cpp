@@ -1,0 +1,97 @@
+#include "tracking/tracker.hpp"
+
+namespace vigs::tracking {
+
+std::string_view to_string(TrackingStatus status) {
+  switch (status) {
+    case TrackingStatus::initialized:
+      return "initialized";
+    case TrackingStatus::tracked:
+      return "tracked";
+    case TrackingStatus::lost_low_inliers:
+      return "lost_low_inliers";
+    case TrackingStatus::lost_diverged:
+      return "lost_diverged";
+    case TrackingStatus::lost_degenerate:
+      return "lost_degenerate";
+  }
+  return "unknown";
+}
+
+Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geometry::Pose& T_w_c0)
+    : setting_(setting),
+      team_(setting.preprocess_threads),
+      pre_(camera, setting.preprocess, team_),
+      gicp_(setting.gicp),
+      map_(setting.local_map),
+      policy_{setting.keyframe},
+      T_w_c0_(T_w_c0) {}
+
+geometry::Pose Tracker::guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu,
+                              bool& fell_back) const {
+  fell_back = false;
+  switch (setting_.initial_guess) {
+    case InitialGuessMode::imu:
+      if (T_w_c_imu != nullptr) return *T_w_c_imu;
+      fell_back = true;
+      [[fallthrough]];
+    case InitialGuessMode::constant_velocity:
+      if (frames_ < 2) return T_w_last_;
+      return predict_constant_velocity(T_w_prev_, t_prev_ns_, T_w_last_, t_last_ns_, t_ns);
+    case InitialGuessMode::previous_pose:
+      break;
+  }
+  return T_w_last_;
+}
+
+void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
+  map_.insert(cloud_, T_w_c);
+  keyframe_.t_ns = t_ns;
+  keyframe_.T_w_c = T_w_c;
+  keyframe_.cloud_c.points_m = cloud_.points_m;  // assignment reuses capacity
+  keyframe_.cloud_c.cov_raw_m2 = cloud_.cov_raw_m2;
+  keyframe_.cloud_c.cov_m2 = cloud_.cov_m2;
+  keyframe_.cloud_c.colors_rgb = cloud_.colors_rgb;
+}
+
+TrackingOutput Tracker::track(std::int64_t t_ns, const io::ImageF32& depth_m,
+                              const io::ImageU8& rgb, const geometry::Pose* T_w_c_imu) {
+  TrackingOutput out;
+  out.t_ns = t_ns;
+  out.points = pre_.process(depth_m, rgb, cloud_, tree_);
+  if (frames_ == 0) {
+    out.T_w_c = out.T_w_c_guess = T_w_c_imu != nullptr ? *T_w_c_imu : T_w_c0_;
+    out.status = TrackingStatus::initialized;
+    out.pose_from_gicp = false;
+    out.keyframe = true;
+    make_keyframe(t_ns, out.T_w_c);
+  } else {
+    out.T_w_c_guess = guess(t_ns, T_w_c_imu, out.guess_fell_back);
+    out.gicp = gicp_.align(map_, cloud_, out.T_w_c_guess);
+    const geometry::PoseError correction = geometry::pose_error(out.T_w_c_guess, out.gicp.T_t_s);
+    if (out.gicp.verdict == GicpVerdict::diverged ||
+        correction.translation_m > setting_.max_correction_m ||
+        correction.rotation_rad > setting_.max_correction_rad) {
+      out.status = TrackingStatus::lost_diverged;
+    } else if (out.gicp.verdict == GicpVerdict::degenerate) {
+      out.status = TrackingStatus::lost_degenerate;
+    } else if (out.gicp.inlier_ratio < setting_.min_inlier_ratio) {
+      out.status = TrackingStatus::lost_low_inliers;
+    } else {
+      out.status = TrackingStatus::tracked;
+    }
+    out.pose_from_gicp = out.status == TrackingStatus::tracked;
+    out.T_w_c = out.pose_from_gicp ? out.gicp.T_t_s : out.T_w_c_guess;
+    out.keyframe = out.pose_from_gicp &&
+                   policy_.is_keyframe(out.gicp.overlap_ratio, keyframe_.T_w_c, out.T_w_c);
+    if (out.keyframe) make_keyframe(t_ns, out.T_w_c);
+  }
+  T_w_prev_ = T_w_last_;
+  t_prev_ns_ = t_last_ns_;
+  T_w_last_ = out.T_w_c;
+  t_last_ns_ = t_ns;
+  ++frames_;
+  return out;
+}
+
+}  // namespace vigs::tracking

@@ -1,0 +1,91 @@
+#pragma once
+// The tracking front end for one RGB-D stream: each frame is turned into Gaussians, aligned
+// by GICP against the bounded local map from the configured initial guess, checked for
+// failure, and possibly made a keyframe (inserted into the local map and exposed for the
+// mapper). Poses are T_w_c (camera in world).
+//
+// Failure: low inlier ratio, a diverged or degenerate GICP, or a correction of the guess
+// beyond the divergence bounds. The frame's pose is then the initial guess — with
+// InitialGuessMode::imu the IMU-propagated pose — flagged `pose_from_gicp = false`, and it
+// does not become a keyframe.
+#include <cstdint>
+#include <string_view>
+
+#include "tracking/gicp.hpp"
+#include "tracking/initial_guess.hpp"
+#include "tracking/keyframe_policy.hpp"
+#include "tracking/local_map.hpp"
+#include "tracking/preprocess.hpp"
+
+namespace vigs::tracking {
+
+enum class TrackingStatus {
+  initialized,       ///< first frame: the map starts here
+  tracked,           ///< GICP pose accepted
+  lost_low_inliers,  ///< inlier ratio below min_inlier_ratio
+  lost_diverged,     ///< GICP diverged or moved the guess beyond the bounds
+  lost_degenerate,   ///< GICP Hessian degenerate (e.g. a single wall)
+};
+std::string_view to_string(TrackingStatus status);
+
+struct TrackingOutput {
+  std::int64_t t_ns = 0;
+  geometry::Pose T_w_c = geometry::Pose::Identity();
+  geometry::Pose T_w_c_guess = geometry::Pose::Identity();
+  bool pose_from_gicp = false;   ///< false: T_w_c is the (IMU) guess, not a measurement
+  bool guess_fell_back = false;  ///< imu mode without an IMU pose: constant velocity used
+  bool keyframe = false;
+  TrackingStatus status = TrackingStatus::initialized;
+  GicpResult gicp;
+  DepthToPointsStats points;
+};
+
+class Tracker {
+ public:
+  struct Setting {
+    FramePreprocessor::Setting preprocess;
+    Gicp::Setting gicp;
+    LocalMap::Setting local_map;
+    KeyframePolicy::Setting keyframe;
+    InitialGuessMode initial_guess = InitialGuessMode::imu;
+    double min_inlier_ratio = 0.3;
+    double max_correction_m = 0.5;
+    double max_correction_rad = 30.0 * 3.14159265358979323846 / 180.0;
+    int preprocess_threads = 2;
+  };
+
+  Tracker(const PinholeCamera& camera, const Setting& setting,
+          const geometry::Pose& T_w_c0 = geometry::Pose::Identity());
+
+  /// Tracks one frame. `T_w_c_imu` is the IMU-propagated pose for this frame (nullptr when
+  /// none); it is used in imu mode only. On the first frame it is the starting pose if given.
+  TrackingOutput track(std::int64_t t_ns, const io::ImageF32& depth_m, const io::ImageU8& rgb,
+                       const geometry::Pose* T_w_c_imu = nullptr);
+
+  /// The most recent keyframe (camera-frame Gaussians and T_w_c), for the mapper.
+  [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }
+  [[nodiscard]] const LocalMap& local_map() const { return map_; }
+  [[nodiscard]] const Setting& setting() const { return setting_; }
+
+ private:
+  geometry::Pose guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu, bool& fell_back) const;
+  void make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
+
+  Setting setting_;
+  ForkJoin team_;
+  FramePreprocessor pre_;
+  Gicp gicp_;
+  LocalMap map_;
+  KeyframePolicy policy_;
+  GaussianCloud cloud_;
+  KdTree tree_;
+  Keyframe keyframe_;
+  int frames_ = 0;
+  geometry::Pose T_w_last_ = geometry::Pose::Identity();
+  geometry::Pose T_w_prev_ = geometry::Pose::Identity();
+  std::int64_t t_last_ns_ = 0;
+  std::int64_t t_prev_ns_ = 0;
+  geometry::Pose T_w_c0_;
+};
+
+}  // namespace vigs::tracking

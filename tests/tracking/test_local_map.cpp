@@ -1,0 +1,154 @@
+// Local map: nearest-neighbour correctness, flat memory over a 65 m x 65 m floor, eviction.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "tracking/local_map.hpp"
+
+namespace vigs::tracking {
+namespace {
+
+GaussianCloud random_cloud(int n, unsigned seed, float extent) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-extent, extent);
+  GaussianCloud c;
+  for (int i = 0; i < n; ++i) {
+    c.points_m.emplace_back(u(rng), u(rng), 2.0f + u(rng));
+    c.cov_m2.push_back(Eigen::Matrix3f::Identity());
+    c.cov_raw_m2.push_back(Eigen::Matrix3f::Identity());
+    c.colors_rgb.push_back({0, 0, 0});
+  }
+  return c;
+}
+
+TEST(LocalMap, NearestMatchesBruteForceWithinVoxelRadius) {
+  LocalMap::Setting s;
+  s.voxel_m = 0.1;
+  s.points_per_voxel = 1000;  // keep every point, so brute force over the inserts is exact
+  s.max_voxels = 8192;
+  LocalMap map(s);
+  const geometry::Pose T_w_c =
+      geometry::make_pose(Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(1.0, 2.0, -0.5));
+  const GaussianCloud c = random_cloud(3000, 5, 0.5f);
+  map.insert(c, T_w_c);
+  ASSERT_EQ(map.num_points(), 3000u);
+  std::vector<Eigen::Vector3f> world;
+  for (const auto& p : c.points_m) world.push_back((T_w_c * p.cast<double>()).cast<float>());
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-0.6f, 0.6f);
+  for (int q = 0; q < 300; ++q) {
+    const Eigen::Vector3f query =
+        (T_w_c * Eigen::Vector3d(u(rng), u(rng), 2.0 + u(rng))).cast<float>();
+    float best = 0.1f * 0.1f;
+    bool any = false;
+    for (const auto& w : world) {
+      const float d2 = (w - query).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        any = true;
+      }
+    }
+    std::uint32_t idx = 0;
+    float d2 = 0.0f;
+    ASSERT_EQ(map.nearest(query, 0.1f * 0.1f, idx, d2), any);
+    if (any) {
+      EXPECT_NEAR(d2, best, 1e-6f);
+      EXPECT_EQ((map.point(idx) - query).squaredNorm(), d2);
+    }
+  }
+}
+
+// A camera sweeping a 65 m x 65 m floor in rows 2 m apart, one keyframe per metre, each
+// keyframe a 6 m x 6 m patch of floor and a wall ahead: the map stays within its bound and
+// its buffers never grow, and nothing farther than the radius survives.
+TEST(LocalMap, MemoryStaysFlatOver65By65MetreFloor) {
+  LocalMap::Setting s;
+  s.voxel_m = 0.1;
+  s.points_per_voxel = 10;
+  s.max_voxels = 8192;
+  s.radius_m = 5.0;
+  LocalMap map(s);
+  const std::size_t bytes0 = map.memory_bytes();
+  GaussianCloud patch;
+  for (int i = 0; i < 60; ++i) {
+    for (int j = 0; j < 60; ++j) {
+      patch.points_m.emplace_back(-3.0f + 0.1f * i, 1.2f, 0.1f * j);  // floor, y down
+      patch.cov_m2.push_back(Eigen::Matrix3f::Identity());
+    }
+  }
+  for (int i = 0; i < 60; ++i) {
+    for (int j = 0; j < 20; ++j) {
+      patch.points_m.emplace_back(-3.0f + 0.1f * i, 1.2f - 0.1f * j, 6.0f);  // wall
+      patch.cov_m2.push_back(Eigen::Matrix3f::Identity());
+    }
+  }
+  std::size_t max_seen = 0;
+  int keyframes = 0;
+  for (int row = 0; row <= 32; ++row) {
+    for (int step = 0; step <= 65; ++step) {
+      const double x = row * 2.0;
+      const double z = (row % 2 == 0) ? step : 65.0 - step;
+      const geometry::Pose T_w_c =
+          geometry::make_pose(Eigen::Vector3d(0.0, row % 2 == 0 ? 0.0 : 3.14159265358979, 0.0),
+                              Eigen::Vector3d(x, 0.0, z));
+      map.insert(patch, T_w_c);
+      ++keyframes;
+      max_seen = std::max(max_seen, map.num_points());
+      ASSERT_LE(map.num_points(), map.max_points());
+      ASSERT_LE(map.num_voxels(), static_cast<std::size_t>(s.max_voxels));
+    }
+  }
+  EXPECT_EQ(keyframes, 33 * 66);
+  EXPECT_EQ(map.memory_bytes(), bytes0);
+  EXPECT_GT(max_seen, 10000u);
+  // The last keyframe itself reaches beyond the radius until the next insertion evicts;
+  // after an explicit eviction everything left is near the last camera position.
+  const Eigen::Vector3f cam(64.0f, 0.0f, 65.0f);
+  map.evict_far(cam.cast<double>());
+  const float reach = static_cast<float>(s.radius_m + s.voxel_m);
+  std::size_t checked = 0;
+  for (float dx = -8.0f; dx <= 8.0f; dx += 0.5f) {
+    for (float dz = -8.0f; dz <= 8.0f; dz += 0.5f) {
+      const Eigen::Vector3f q = cam + Eigen::Vector3f(dx, 1.2f, dz);
+      std::uint32_t idx = 0;
+      float d2 = 0.0f;
+      if (map.nearest(q, 0.01f, idx, d2)) {
+        ++checked;
+        EXPECT_LE((map.point(idx) - cam).norm(), reach);
+      }
+    }
+  }
+  EXPECT_GT(checked, 50u);
+}
+
+TEST(LocalMap, LeastRecentlySeenVoxelsGoFirstWhenFull) {
+  LocalMap::Setting s;
+  s.voxel_m = 0.1;
+  s.points_per_voxel = 1;
+  s.max_voxels = 256;
+  s.radius_m = 1000.0;  // only the capacity bound acts
+  LocalMap map(s);
+  GaussianCloud c;
+  for (int i = 0; i < 200; ++i) {
+    c.points_m.emplace_back(0.1f * i + 0.05f, 0.05f, 0.05f);
+    c.cov_m2.push_back(Eigen::Matrix3f::Identity());
+  }
+  map.insert(c, geometry::Pose::Identity());  // old keyframe at x in [0, 20)
+  const geometry::Pose far =
+      geometry::make_pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(100.0, 0.0, 0.0));
+  map.insert(c, far);  // new keyframe needs 200 more voxels: old ones are evicted
+  EXPECT_LE(map.num_voxels(), 256u);
+  std::uint32_t idx = 0;
+  float d2 = 0.0f;
+  for (int i = 0; i < 200; ++i) {  // every new point is present
+    ASSERT_TRUE(map.nearest(Eigen::Vector3f(100.05f + 0.1f * i, 0.05f, 0.05f), 1e-6f, idx, d2));
+  }
+  int old_left = 0;
+  for (int i = 0; i < 200; ++i) {
+    old_left += map.nearest(Eigen::Vector3f(0.05f + 0.1f * i, 0.05f, 0.05f), 1e-6f, idx, d2);
+  }
+  EXPECT_LE(old_left, 56);
+}
+
+}  // namespace
+}  // namespace vigs::tracking
