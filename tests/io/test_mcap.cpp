@@ -175,6 +175,27 @@ TEST(Mcap, TopicFilterSkipsOtherChannels) {
   EXPECT_EQ(r.find_channel("/nope"), nullptr);
 }
 
+TEST(Mcap, ChunksCloseAfterTheirTimeSpanSoSlowStreamsLoseLittleInACrash) {
+  const std::string path = test::temp_path("span.mcap");
+  mcap::McapWriterOptions options;
+  options.chunk_max_span_ns = 500'000'000;  // 0.5 s; the 4 MiB size limit is never reached
+  std::vector<std::uint8_t> buf;
+  {
+    mcap::McapWriter w(path, options);
+    const auto ch = ros_msgs::add_channel<ros_msgs::Imu>(w, "/imu");
+    for (int i = 0; i < 1000; ++i) {  // 5 s at 200 Hz
+      ros_msgs::write_message(w, ch, 5'000'000ull * i, test::sample_imu(i), buf);
+    }
+    EXPECT_EQ(w.stats().chunk_count, 9u);  // each chunk holds 0.5 s (101 samples) before closing
+    w.close();
+  }
+  mcap::McapReader r(path);
+  EXPECT_EQ(test::read_all(r).size(), 1000u);
+  ASSERT_TRUE(r.statistics().has_value());
+  EXPECT_EQ(r.statistics()->chunk_count, 10u);
+  EXPECT_TRUE(r.issues().empty());
+}
+
 TEST(Mcap, WriterRejectsUnknownIdsAndUnwritablePaths) {
   const std::string path = test::temp_path("bad_ids.mcap");
   mcap::McapWriter w(path);
