@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 #include <map>
+#include <new>
 
 #include "io/io_error.hpp"
 #include "io/mcap/crc32.hpp"
@@ -21,6 +22,7 @@ namespace {
 constexpr std::uint64_t kRecordHeader = 9;  // opcode + uint64 length
 constexpr std::uint64_t kFooterRecord = kRecordHeader + 20;
 constexpr std::uint64_t kMaxUnknownSizeChunk = 1ull << 30;
+constexpr std::uint64_t kMaxChunkBytes = 4ull << 30;
 
 std::string hex(unsigned v) {
   char buf[16];
@@ -286,13 +288,23 @@ bool McapReader::Impl::open_chunk(std::uint64_t offset, std::span<const std::uin
   } else if (c.compression == "zstd") {
     const unsigned long long frame = ZSTD_getFrameContentSize(c.records.data(), c.records.size());
     const bool known = frame != ZSTD_CONTENTSIZE_UNKNOWN && frame != ZSTD_CONTENTSIZE_ERROR;
-    if ((known && frame != c.uncompressed_size) ||
+    // zstd cannot expand more than ~32768x (RLE blocks), so a larger claim is damage; the cap
+    // also keeps a forged size from exhausting memory.
+    const bool plausible = c.uncompressed_size <= kMaxChunkBytes &&
+                           c.uncompressed_size <= c.records.size() * 40000ull + (1u << 16);
+    if ((known && frame != c.uncompressed_size) || !plausible ||
         (!known && c.uncompressed_size > kMaxUnknownSizeChunk)) {
       issue(ReadIssue::Kind::kCorrupt, offset, "chunk size fields disagree; chunk skipped");
       return false;
     }
     if (zstd == nullptr) zstd = ZSTD_createDCtx();
-    chunk_buf.resize(static_cast<std::size_t>(c.uncompressed_size));
+    try {
+      chunk_buf.resize(static_cast<std::size_t>(c.uncompressed_size));
+    } catch (const std::bad_alloc&) {
+      issue(ReadIssue::Kind::kCorrupt, offset,
+            "chunk of " + std::to_string(c.uncompressed_size) + " bytes does not fit in memory");
+      return false;
+    }
     const std::size_t n = ZSTD_decompressDCtx(zstd, chunk_buf.data(), chunk_buf.size(),
                                               c.records.data(), c.records.size());
     if (ZSTD_isError(n) || n != c.uncompressed_size) {
