@@ -44,6 +44,7 @@ TEST_P(McapRoundTrip, EveryMessageAndFieldComesBack) {
 
   mcap::McapReader r(path);
   EXPECT_TRUE(r.has_summary());
+  EXPECT_EQ(r.profile(), c.encoding == Encoding::kCdr ? "ros2" : "ros1");  // before next()
   mcap::MessageView m;
   std::size_t i = 0;
   while (r.next(m)) {

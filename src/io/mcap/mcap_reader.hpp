@@ -70,7 +70,7 @@ class McapReader {
   /// Problems found so far. After next() returned false the list is complete: an empty list
   /// then means the whole file checked out (magic, framing, all CRCs, footer).
   const std::vector<ReadIssue>& issues() const;
-  /// Header profile and library strings ("" until/unless read).
+  /// Header profile and library strings ("" if the Header record is missing or damaged).
   const std::string& profile() const;
   const std::string& library() const;
   const std::string& path() const;

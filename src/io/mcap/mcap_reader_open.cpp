@@ -34,6 +34,16 @@ void McapReader::Impl::open_summary() {
   if (size < 8 || std::memcmp(base, kMagic, 8) != 0) {
     issue(ReadIssue::Kind::kCorrupt, 0, "bad leading magic (not an MCAP file or damaged start)");
   }
+  // The Header's profile and library are known before the first next() (the scan re-reads them).
+  std::uint64_t header_len = 0;
+  if (size >= 8 + kRecordHeader && base[8] == static_cast<std::uint8_t>(Opcode::kHeader)) {
+    std::memcpy(&header_len, base + 9, 8);
+    if (header_len <= size - 8 - kRecordHeader &&
+        !detail::parse_header(file.subspan(8 + kRecordHeader, header_len), profile, library)) {
+      profile.clear();
+      library.clear();
+    }
+  }
   if (size < 8 + kFooterRecord + 8 || std::memcmp(base + size - 8, kMagic, 8) != 0) {
     issue(ReadIssue::Kind::kTruncated, size,
           "no trailing magic / footer (file cut off?); reading the data section linearly");
