@@ -146,8 +146,9 @@ McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::stri
   }
   OniClipWriter writer(oni_path, {result.width, result.height, result.fps});
   for (const std::int64_t t : stamps) {
-    const Frame& f = frames[t];
-    writer.add_frame(f.depth_mm, f.rgb);
+    auto it = frames.find(t);
+    writer.add_frame(it->second.depth_mm, it->second.rgb);
+    frames.erase(it);  // the writer holds its own copy: keep memory near one clip
   }
   writer.close();
   result.frames = stamps.size();
