@@ -26,16 +26,16 @@ struct Frame {
 }
 
 std::vector<std::uint8_t> to_rgb(const ros_msgs::Image& img, const std::string& path) {
-  const std::size_t n = std::size_t{img.width} * img.height;
-  std::vector<std::uint8_t> rgb(n * 3);
   const bool mono = img.encoding == "mono8";
   const std::size_t bpp = mono ? 1 : 3;
   if (!mono && img.encoding != "rgb8" && img.encoding != "bgr8") {
     fail(path, "colour encoding '" + img.encoding + "' (expected rgb8, bgr8 or mono8)");
   }
-  if (img.step < img.width * bpp || img.data.size() < std::size_t{img.step} * img.height) {
+  if (std::size_t{img.step} < img.width * bpp ||
+      img.data.size() < std::size_t{img.step} * img.height) {
     fail(path, "colour image data shorter than step x height");
   }
+  std::vector<std::uint8_t> rgb(std::size_t{img.width} * img.height * 3);
   for (std::uint32_t y = 0; y < img.height; ++y) {
     const std::uint8_t* row = img.data.data() + std::size_t{y} * img.step;
     for (std::uint32_t x = 0; x < img.width; ++x) {
@@ -62,7 +62,8 @@ std::vector<std::uint16_t> to_depth_mm(const ros_msgs::Image& img, const std::st
   }
   if (img.is_bigendian != 0) fail(path, "big-endian depth images are not supported");
   const std::size_t bpp = mm ? 2 : 4;
-  if (img.step < img.width * bpp || img.data.size() < std::size_t{img.step} * img.height) {
+  if (std::size_t{img.step} < img.width * bpp ||
+      img.data.size() < std::size_t{img.step} * img.height) {
     fail(path, "depth image data shorter than step x height");
   }
   std::vector<std::uint16_t> depth(std::size_t{img.width} * img.height);
@@ -101,6 +102,11 @@ McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::stri
       if (!ros_msgs::decode_message(m, img)) fail(mcap_path, m.channel->topic + " is not an Image");
     } catch (const ros_msgs::DecodeError& e) {
       fail(mcap_path, e.what());
+    }
+    if (img.width == 0 || img.height == 0 ||
+        std::uint64_t{img.width} * img.height > 1600ull * 1200ull) {
+      fail(mcap_path, "image of " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                          " on " + m.channel->topic + " (ONI clips hold at most 1600x1200)");
     }
     if (result.width == 0) {
       result.width = img.width;
