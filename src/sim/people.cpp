@@ -37,8 +37,9 @@ std::vector<Walker> make_walkers(const Scene& scene, int count, std::uint64_t se
     const Walkway& w = scene.walkways[rng.next_u64() % scene.walkways.size()];
     const Eigen::Vector2d dir = (w.b - w.a).normalized();
     const Eigen::Vector2d left(-dir.y(), dir.x());
-    // Off the centre line (where the camera is) and clear of the junctions.
-    const double side = (rng.uniform() < 0.5 ? -1.0 : 1.0) * (w.half_width_m - 0.38);
+    // Off the centre line (where the camera is), clear of the wall pilasters (0.12 m deep)
+    // and of the junctions.
+    const double side = (rng.uniform() < 0.5 ? -1.0 : 1.0) * (w.half_width_m - 0.45);
     Walker k;
     k.a = w.a + dir * 1.6 + left * side;
     k.b = w.b - dir * 1.6 + left * side;
