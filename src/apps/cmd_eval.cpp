@@ -77,17 +77,19 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
 
   auto* rpe = group->add_subcommand("rpe", "Relative pose error over a delta, as JSON");
   add_trajectory_options(rpe, a);
-  rpe->add_option("--delta", a.delta, "pose distance: frames (whole number) or metres")
+  rpe->add_option("--delta", a.delta, "pose distance: frames (whole number), metres or seconds")
       ->check(CLI::PositiveNumber);
-  rpe->add_option("--delta-unit", a.delta_unit, "frames | m")
-      ->check(CLI::IsMember({"frames", "m"}));
+  rpe->add_option("--delta-unit", a.delta_unit, "frames | m | s")
+      ->check(CLI::IsMember({"frames", "m", "s"}));
   rpe->add_option("--align", a.align, "none (or se3: same result) | sim3 (scale only)")
       ->check(CLI::IsMember({"se3", "sim3", "none"}));
   rpe->callback([&exit_code] {
     guarded(exit_code, [] {
       eval::RpeOptions opt;
       opt.delta = a.delta;
-      opt.unit = a.delta_unit == "m" ? eval::DeltaUnit::kMetres : eval::DeltaUnit::kFrames;
+      opt.unit = a.delta_unit == "m"   ? eval::DeltaUnit::kMetres
+                 : a.delta_unit == "s" ? eval::DeltaUnit::kSeconds
+                                       : eval::DeltaUnit::kFrames;
       opt.max_dt_s = a.max_dt_s;
       opt.align = a.align == "sim3" ? eval::Alignment::kSim3 : eval::Alignment::kNone;
       const auto gt = eval::load_any_trajectory(a.gt, a.topic);
