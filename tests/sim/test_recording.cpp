@@ -23,12 +23,19 @@ class MemorySink : public SimSink {
   void frame(std::int64_t t_ns, const PinholeCamera&, const RgbdFrame& f) override {
     frame_t.push_back(t_ns);
     last_depth = f.depth_m;
+    events.push_back({t_ns, 2});
   }
-  void imu(const ImuSample& s) override { imu_samples.push_back(s); }
+  void imu(const ImuSample& s) override {
+    imu_samples.push_back(s);
+    events.push_back({s.t_ns, 0});
+  }
   void ground_truth(std::int64_t t_ns, const geometry::Pose& T) override {
     gt_t.push_back(t_ns);
     gt.push_back(T);
+    events.push_back({t_ns, 1});
   }
+  /// (stamp, kind: 0 imu, 1 ground truth, 2 frame) in call order.
+  std::vector<std::pair<std::int64_t, int>> events;
   std::vector<std::int64_t> frame_t, gt_t;
   std::vector<ImuSample> imu_samples;
   std::vector<geometry::Pose> gt;
@@ -58,6 +65,11 @@ TEST(Simulator, StreamsAtTheConfiguredRatesInTimeOrderAndDeterministically) {
     EXPECT_EQ(std::memcmp(&a.imu_samples[i], &b.imu_samples[i], sizeof(ImuSample)), 0);
   }
   EXPECT_EQ(a.last_depth, b.last_depth);
+  // Time order; at equal stamps IMU, then ground truth, then the frame.
+  ASSERT_EQ(a.events.size(), 21u + 2u * 201u);
+  for (std::size_t i = 1; i < a.events.size(); ++i) {
+    EXPECT_LT(a.events[i - 1], a.events[i]) << i;
+  }
   EXPECT_TRUE(a.gt[100].isApprox(sim.body_pose(0.5), 1e-12));
 }
 
