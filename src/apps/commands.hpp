@@ -12,5 +12,6 @@ struct ExitCode {
 void add_config_command(CLI::App& app, ExitCode& exit_code);
 void add_simulate_command(CLI::App& app, ExitCode& exit_code);
 void add_eval_command(CLI::App& app, ExitCode& exit_code);
+void add_mcap_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   vigs::apps::add_config_command(app, exit_code);
   vigs::apps::add_simulate_command(app, exit_code);
   vigs::apps::add_eval_command(app, exit_code);
+  vigs::apps::add_mcap_command(app, exit_code);
 
   CLI11_PARSE(app, argc, argv);
   return exit_code.value;

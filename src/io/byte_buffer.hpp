@@ -25,10 +25,8 @@ class ByteWriter {
     out_.resize(at + sizeof(T));
     std::memcpy(out_.data() + at, &value, sizeof(T));
   }
-  void put_bytes(std::span<const std::uint8_t> bytes) {
-    out_.insert(out_.end(), bytes.begin(), bytes.end());
-  }
-  void put_bytes(std::string_view text) { out_.insert(out_.end(), text.begin(), text.end()); }
+  void put_bytes(std::span<const std::uint8_t> bytes) { append(bytes.data(), bytes.size()); }
+  void put_bytes(std::string_view text) { append(text.data(), text.size()); }
   /// uint32 length, then the bytes (MCAP String, ROS 1 string).
   void put_string(std::string_view text) {
     put(static_cast<std::uint32_t>(text.size()));
@@ -48,6 +46,12 @@ class ByteWriter {
   std::size_t size() const { return out_.size(); }
 
  private:
+  void append(const void* p, std::size_t n) {
+    if (n == 0) return;
+    const std::size_t at = out_.size();
+    out_.resize(at + n);
+    std::memcpy(out_.data() + at, p, n);
+  }
   std::vector<std::uint8_t>& out_;
 };
 

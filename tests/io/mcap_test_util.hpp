@@ -23,9 +23,21 @@ struct Written {
   bool operator==(const Written&) const = default;
 };
 
+inline std::filesystem::path temp_dir() {
+  return std::filesystem::temp_directory_path() / ("vigs_io_test_" + std::to_string(::getpid()));
+}
+
+/// Removes this process's temporary folder when the test program exits.
+struct TempDirCleanup {
+  ~TempDirCleanup() {
+    std::error_code ec;
+    std::filesystem::remove_all(temp_dir(), ec);
+  }
+};
+inline const TempDirCleanup kTempDirCleanup;
+
 inline std::string temp_path(const std::string& name) {
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("vigs_io_test_" + std::to_string(::getpid()));
+  const auto dir = temp_dir();
   std::filesystem::create_directories(dir);
   return (dir / name).string();
 }

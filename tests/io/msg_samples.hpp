@@ -6,6 +6,7 @@
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
+#include "io/ros_msgs/odometry.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
 #include "io/ros_msgs/serial_chunk.hpp"
 
@@ -67,6 +68,21 @@ inline ros_msgs::PoseStamped sample_pose(int i) {
   m.header = sample_header(i, "world");
   m.pose.position = {1.5 + i, -2.25, 0.125};
   m.pose.orientation = {0.0, 0.0, 0.38268343236508978, 0.92387953251128674};
+  return m;
+}
+
+inline ros_msgs::Odometry sample_odometry(int i) {
+  ros_msgs::Odometry m;
+  m.header = sample_header(i, "world");
+  m.child_frame_id = "base_link_gt";
+  m.pose.position = {10.0 + i, -3.5, 1.25};
+  m.pose.orientation = {0.1, 0.2, 0.3, 0.92736184954957035};
+  for (int k = 0; k < 36; ++k) {
+    m.pose_covariance[k] = 0.001 * k + i;
+    m.twist_covariance[k] = -0.5 * k;
+  }
+  m.linear_velocity = {1.5, -0.25, 0.0625 * i};
+  m.angular_velocity = {0.01, 0.02, -1.5};
   return m;
 }
 

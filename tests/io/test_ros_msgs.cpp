@@ -32,6 +32,7 @@ TEST(RosMsgs, EveryTypeRoundTripsInCdrAndRos1) {
       expect_round_trip(test::sample_imu(i), e);
       expect_round_trip(test::sample_camera_info(i), e);
       expect_round_trip(test::sample_pose(i), e);
+      expect_round_trip(test::sample_odometry(i), e);
       expect_round_trip(test::sample_serial(i), e);
     }
     expect_round_trip(ros_msgs::Image{}, e);  // empty strings and sequences

@@ -11,6 +11,8 @@ struct OniClipSettings {
   std::uint32_t width = 640;   ///< px
   std::uint32_t height = 480;  ///< px
   std::uint32_t fps = 30;      ///< frames per second of both streams
+  double hfov_rad = 1.0226;    ///< horizontal field of view (ASUS Xtion / PrimeSense 58 deg)
+  double vfov_rad = 0.7966;    ///< vertical field of view (45.6 deg)
 };
 
 /// Writes a short uncompressed RGB-D `.oni` clip that real OpenNI2 plays back

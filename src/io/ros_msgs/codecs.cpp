@@ -3,6 +3,7 @@
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
+#include "io/ros_msgs/odometry.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
 #include "io/ros_msgs/serial_chunk.hpp"
 
@@ -82,6 +83,23 @@ struct VisitPoseStamped {
   }
 };
 
+struct VisitOdometry {
+  template <class Ar, class M>
+  void operator()(Ar& ar, M& m) const {
+    detail::visit_header(ar, m.header);
+    ar("child_frame_id", m.child_frame_id);
+    visit_vector3(ar, m.pose.position, "pose.pose.position.x", "pose.pose.position.y",
+                  "pose.pose.position.z");
+    visit_quaternion(ar, m.pose.orientation);
+    ar("pose.covariance", m.pose_covariance);
+    visit_vector3(ar, m.linear_velocity, "twist.twist.linear.x", "twist.twist.linear.y",
+                  "twist.twist.linear.z");
+    visit_vector3(ar, m.angular_velocity, "twist.twist.angular.x", "twist.twist.angular.y",
+                  "twist.twist.angular.z");
+    ar("twist.covariance", m.twist_covariance);
+  }
+};
+
 struct VisitSerialChunk {
   template <class Ar, class M>
   void operator()(Ar& ar, M& m) const {
@@ -122,6 +140,7 @@ VIGS_ROS_MSG_CODEC(Image, VisitImage)
 VIGS_ROS_MSG_CODEC(Imu, VisitImu)
 VIGS_ROS_MSG_CODEC(CameraInfo, VisitCameraInfo)
 VIGS_ROS_MSG_CODEC(PoseStamped, VisitPoseStamped)
+VIGS_ROS_MSG_CODEC(Odometry, VisitOdometry)
 VIGS_ROS_MSG_CODEC(SerialChunk, VisitSerialChunk)
 
 #undef VIGS_ROS_MSG_CODEC

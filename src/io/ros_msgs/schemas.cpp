@@ -7,6 +7,7 @@
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
+#include "io/ros_msgs/odometry.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
 #include "io/ros_msgs/serial_chunk.hpp"
 
@@ -100,6 +101,35 @@ std::string_view MessageTraits<PoseStamped>::ros1msg() {
       "Header header\ngeometry_msgs/Pose pose\n" + dep("std_msgs/Header", kHeader1) +
       dep("geometry_msgs/Pose", "Point position\nQuaternion orientation\n") +
       dep("geometry_msgs/Point", kVec3) + dep("geometry_msgs/Quaternion", kQuat);
+  return s;
+}
+
+std::string_view MessageTraits<Odometry>::ros2msg() {
+  static const std::string s =
+      "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/PoseWithCovariance pose\n"
+      "geometry_msgs/TwistWithCovariance twist\n" +
+      header2_deps() +
+      dep("geometry_msgs/PoseWithCovariance", "geometry_msgs/Pose pose\nfloat64[36] covariance\n") +
+      dep("geometry_msgs/Pose",
+          "geometry_msgs/Point position\ngeometry_msgs/Quaternion orientation\n") +
+      dep("geometry_msgs/Point", kVec3) + dep("geometry_msgs/Quaternion", kQuat) +
+      dep("geometry_msgs/TwistWithCovariance",
+          "geometry_msgs/Twist twist\nfloat64[36] covariance\n") +
+      dep("geometry_msgs/Twist", "geometry_msgs/Vector3 linear\ngeometry_msgs/Vector3 angular\n") +
+      dep("geometry_msgs/Vector3", kVec3);
+  return s;
+}
+std::string_view MessageTraits<Odometry>::ros1msg() {
+  static const std::string s =
+      "Header header\nstring child_frame_id\ngeometry_msgs/PoseWithCovariance pose\n"
+      "geometry_msgs/TwistWithCovariance twist\n" +
+      dep("std_msgs/Header", kHeader1) +
+      dep("geometry_msgs/PoseWithCovariance", "Pose pose\nfloat64[36] covariance\n") +
+      dep("geometry_msgs/Pose", "Point position\nQuaternion orientation\n") +
+      dep("geometry_msgs/Point", kVec3) + dep("geometry_msgs/Quaternion", kQuat) +
+      dep("geometry_msgs/TwistWithCovariance", "Twist twist\nfloat64[36] covariance\n") +
+      dep("geometry_msgs/Twist", "Vector3 linear\nVector3 angular\n") +
+      dep("geometry_msgs/Vector3", kVec3);
   return s;
 }
 
