@@ -72,9 +72,12 @@ SimStats Simulator::run(SimSink& sink, const std::function<void(double, double)>
   const auto t_start = Clock::now();
   SimStats stats;
   stats.sequence_s = duration_s_;
-  const auto& ctrl = trajectory_->control_points();
-  for (std::size_t i = 1; i < ctrl.size(); ++i)
-    stats.route_length_m += (ctrl[i] - ctrl[i - 1]).norm();
+  // Path lengths by integrating the spline's speed (10 ms steps, midpoint rule).
+  for (double t = 0.005; t < trajectory_->duration_s(); t += 0.01) {
+    const double ds = trajectory_->state(t).v_w_mps.norm() * 0.01;
+    stats.route_length_m += ds;
+    if (t < duration_s_) stats.sequence_length_m += ds;
+  }
 
   ImuSynthesizer imu(cfg_.imu, static_cast<std::uint64_t>(cfg_.sim.seed));
   const auto imu_period_ns = static_cast<std::int64_t>(std::llround(1e9 / cfg_.imu.rate_hz));

@@ -20,9 +20,10 @@ struct SimStats {
   std::int64_t frames = 0;
   std::int64_t imu_samples = 0;
   double sequence_s = 0.0;
-  double route_length_m = 0.0;  ///< of the whole route
-  double wall_s = 0.0;          ///< run time
-  double render_s = 0.0;        ///< ray casting (overlaps with writing the previous frame)
+  double route_length_m = 0.0;     ///< path length of the whole route
+  double sequence_length_m = 0.0;  ///< path length within the generated sequence
+  double wall_s = 0.0;             ///< run time
+  double render_s = 0.0;           ///< ray casting (overlaps with writing the previous frame)
 };
 
 class Simulator {
