@@ -42,6 +42,28 @@ class MemorySink : public SimSink {
   std::vector<float> last_depth;
 };
 
+/// Passes every call on to two sinks.
+class TeeSink : public SimSink {
+ public:
+  TeeSink(SimSink& x, SimSink& y) : x_(x), y_(y) {}
+  void frame(std::int64_t t, const PinholeCamera& c, const RgbdFrame& f) override {
+    x_.frame(t, c, f);
+    y_.frame(t, c, f);
+  }
+  void imu(const ImuSample& s) override {
+    x_.imu(s);
+    y_.imu(s);
+  }
+  void ground_truth(std::int64_t t, const geometry::Pose& T) override {
+    x_.ground_truth(t, T);
+    y_.ground_truth(t, T);
+  }
+
+ private:
+  SimSink& x_;
+  SimSink& y_;
+};
+
 config::RobotConfig one_second() {
   config::RobotConfig cfg;
   cfg.sim.preset = "apartment";
@@ -80,19 +102,7 @@ TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
   McapSinkOptions opt;
   McapSink sink(path, opt);
   MemorySink mem;
-  struct Tee : SimSink {
-    SimSink* x;
-    SimSink* y;
-    void frame(std::int64_t t, const PinholeCamera& c, const RgbdFrame& f) override {
-      x->frame(t, c, f), y->frame(t, c, f);
-    }
-    void imu(const ImuSample& s) override { x->imu(s), y->imu(s); }
-    void ground_truth(std::int64_t t, const geometry::Pose& T) override {
-      x->ground_truth(t, T), y->ground_truth(t, T);
-    }
-  } tee;
-  tee.x = &sink;
-  tee.y = &mem;
+  TeeSink tee(sink, mem);
   sim.run(tee);
   sink.close();
 
@@ -131,6 +141,40 @@ TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
   EXPECT_EQ(pose.header.stamp.to_ns(), 1'000'000'000);
   EXPECT_DOUBLE_EQ(pose.pose.position.x, mem.gt.back().translation().x());
   EXPECT_DOUBLE_EQ(imu.angular_velocity.z, mem.imu_samples.back().gyro_rps[2]);
+  std::remove(path.c_str());
+}
+
+TEST(Simulator, GrayAnd32FC1DepthThroughTheMcapSink) {
+  const std::string path =
+      ::testing::TempDir() + "vigs_sim_gray_" + std::to_string(getpid()) + ".mcap";
+  config::RobotConfig cfg = one_second();
+  cfg.sim.seconds = 0.1;
+  cfg.sim.gray = true;
+  Simulator sim(cfg);
+  McapSinkOptions opt;
+  opt.depth_encoding = "32FC1";
+  McapSink sink(path, opt);
+  MemorySink mem;
+  TeeSink tee(sink, mem);
+  sim.run(tee);
+  sink.close();
+  io::mcap::McapReader reader(path);
+  io::mcap::MessageView m;
+  io::ros_msgs::Image rgb, depth;
+  while (reader.next(m)) {
+    bool ok = true;
+    if (m.channel->topic == "/vigs/rgb") ok = io::ros_msgs::decode_message(m, rgb);
+    if (m.channel->topic == "/vigs/depth") ok = io::ros_msgs::decode_message(m, depth);
+    ASSERT_TRUE(ok) << m.channel->topic;
+  }
+  EXPECT_EQ(rgb.encoding, "mono8");
+  EXPECT_EQ(rgb.step, 720u);
+  EXPECT_EQ(rgb.data.size(), 720u * 480u);
+  EXPECT_EQ(depth.encoding, "32FC1");
+  ASSERT_EQ(depth.data.size(), 720u * 480u * 4u);
+  std::vector<float> metres(720 * 480);
+  std::memcpy(metres.data(), depth.data.data(), depth.data.size());
+  EXPECT_EQ(metres, mem.last_depth);  // bit-exact
   std::remove(path.c_str());
 }
 
