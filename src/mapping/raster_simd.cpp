@@ -15,6 +15,13 @@ void forward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int 
                        const RasterSettings& s, PixelOutputs<float>& out) {
   forward_tile_scalar(rect, gs, count, s, out);
 }
+void backward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int,
+                        const RasterSettings& s, int width, const float* final_T_img,
+                        const int* n_contrib_img, const float* v_color, const float* v_depth,
+                        const float* v_alpha, TileGrad<float>* grads, float*) {
+  backward_tile_scalar(rect, gs, s, width, final_T_img, n_contrib_img, v_color, v_depth, v_alpha,
+                       grads);
+}
 #endif
 
 }  // namespace vigs::mapping

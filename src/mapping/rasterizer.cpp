@@ -28,6 +28,7 @@ Rasterizer<T>::Rasterizer(RasterSettings settings, WorkerPool* pool)
   gather_.resize(n);
   tile_grad_.resize(n);
   thread_grad_.resize(n);
+  simd_scratch_.resize(n);
 }
 
 template <class T>
@@ -82,8 +83,14 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
     x1 = std::min(tiles_x_ - 1, static_cast<int>(std::floor((u + r) / T(kTilePx))));
     y1 = std::min(tiles_y_ - 1, static_cast<int>(std::floor((v + r) / T(kTilePx))));
   };
+  visible_slot_.resize(n);
+  n_visible_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (proj_.radius[i] == 0) continue;
+    if (proj_.radius[i] == 0) {
+      visible_slot_[i] = -1;
+      continue;
+    }
+    visible_slot_[i] = n_visible_++;
     int x0, y0, x1, y1;
     rect_of(i, x0, y0, x1, y1);
     for (int ty = y0; ty <= y1; ++ty)
@@ -179,13 +186,14 @@ template <class T>
 void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const RenderCamera& cam,
                                          const RenderResult<T>& out, const T* v_color,
                                          const T* v_depth, const T* v_alpha) {
-  const std::size_t n = g.size();
   const int nt = threads();
   const int n_tiles = tiles_x_ * tiles_y_;
   // Accumulated opacity is 1 - T_final: its gradient enters as dL/dalpha.
+  bool simd = false;
+  if constexpr (std::is_same_v<T, float>) simd = settings_.use_simd && avx2_kernel_available();
   run([&](int t) {
     auto& acc = thread_grad_[static_cast<std::size_t>(t)];
-    acc.assign(kGradPerGaussian * n, T(0));
+    acc.assign(kGradPerGaussian * static_cast<std::size_t>(n_visible_), T(0));
     auto& buf = gather_[static_cast<std::size_t>(t)];
     auto& tg = tile_grad_[static_cast<std::size_t>(t)];
     for (int tile = t; tile < n_tiles; tile += nt) {
@@ -196,11 +204,24 @@ void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const Rende
       if (b == e) continue;
       gather_tile(tile, buf, g);
       tg.assign(static_cast<std::size_t>(e - b), TileGrad<T>{});
-      backward_tile_scalar(rect, buf.data(), settings_, out.width, out.final_T.data(),
-                           out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data());
+      bool done = false;
+      if constexpr (std::is_same_v<T, float>) {
+        if (simd) {
+          auto& scratch = simd_scratch_[static_cast<std::size_t>(t)];
+          scratch.resize(static_cast<std::size_t>(e - b) * 80);
+          backward_tile_avx2(rect, buf.data(), e - b, settings_, out.width, out.final_T.data(),
+                             out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data(),
+                             scratch.data());
+          done = true;
+        }
+      }
+      if (!done)
+        backward_tile_scalar(rect, buf.data(), settings_, out.width, out.final_T.data(),
+                             out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data());
       for (int k = b; k < e; ++k) {
         const TileGrad<T>& s = tg[static_cast<std::size_t>(k - b)];
-        T* a = &acc[kGradPerGaussian * static_cast<std::size_t>(tile_ids_[k])];
+        T* a = &acc[kGradPerGaussian * static_cast<std::size_t>(
+                                           visible_slot_[static_cast<std::size_t>(tile_ids_[k])])];
         a[0] += s.x;
         a[1] += s.y;
         a[2] += s.ca;
@@ -222,8 +243,9 @@ void Rasterizer<T>::gaussian_gradient(const GaussianParams<T>& g, const RenderCa
   for (int k = 0; k < kParamGrads; ++k) out[k] = T(0);
   if (proj_.radius[i] == 0) return;
   T v[kGradPerGaussian] = {};
+  const auto slot = static_cast<std::size_t>(visible_slot_[i]);
   for (const auto& buf : thread_grad_) {
-    const T* a = &buf[kGradPerGaussian * i];
+    const T* a = &buf[kGradPerGaussian * slot];
     for (int k = 0; k < kGradPerGaussian; ++k) v[k] += a[k];
   }
   project_gaussian_vjp(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i],
@@ -272,7 +294,7 @@ std::size_t Rasterizer<T>::cache_bytes() const {
                        proj_.opacity.capacity()) *
                           sizeof(T) +
                       proj_.radius.capacity() * sizeof(int);
-  bytes += tile_ids_.capacity() * sizeof(int);
+  bytes += (tile_ids_.capacity() + visible_slot_.capacity()) * sizeof(int);
   for (const auto& v : thread_grad_) bytes += v.capacity() * sizeof(T);
   return bytes;
 }

@@ -72,7 +72,8 @@ class Rasterizer {
   /// Bytes held per Gaussian by this rasterizer's caches (projection, per-thread gradient
   /// buffers, tile lists), from the current capacities.
   [[nodiscard]] std::size_t cache_bytes() const;
-  /// True when the last forward used the AVX2 kernel.
+  /// True when the last forward used the AVX2 kernels (backward uses them under the same
+  /// condition: settings().use_simd, float, and a CPU with AVX2 and FMA).
   [[nodiscard]] bool used_simd() const { return used_simd_; }
 
  private:
@@ -91,7 +92,10 @@ class Rasterizer {
   std::vector<int> tile_cursor_;
   std::vector<std::vector<TileGaussian<T>>> gather_;  ///< per thread
   std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread
-  std::vector<std::vector<T>> thread_grad_;           ///< per thread, 10 per Gaussian
+  std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
+  int n_visible_ = 0;
+  std::vector<std::vector<T>> thread_grad_;       ///< per thread, 10 per visible Gaussian
+  std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
   bool used_simd_ = false;
 };
 

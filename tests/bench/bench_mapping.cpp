@@ -1,7 +1,8 @@
 // Mapping benchmark: about 200k Gaussians inserted from ray-cast views of a synthetic room, with
 // opacity 0.1 (fresh) or 0.5-1 (trained-like). Each measurement runs beside the single-threaded
 // scalar reference of the same math (Reference/...), so the ratio is meaningful on a shared
-// machine. Counters: gaussians, visible tile pairs.
+// machine. The CPU column is process CPU time (all threads), the wall column real time.
+// Counters: gaussians, visible tile pairs, bytes per Gaussian.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -119,7 +120,10 @@ void BM_Iteration(benchmark::State& state, bool reference) {
 void args(benchmark::internal::Benchmark* b) {
   for (int w : {320, 640})
     for (int op : {0, 1}) b->Args({w, op});
-  b->ArgNames({"width", "opaque"})->Unit(benchmark::kMillisecond)->UseRealTime();
+  b->ArgNames({"width", "opaque"})
+      ->Unit(benchmark::kMillisecond)
+      ->MeasureProcessCPUTime()  // CPU column: all threads of the process
+      ->UseRealTime();
 }
 
 BENCHMARK_CAPTURE(BM_Forward, Tiled2ThreadsSimd, false)->Apply(args);

@@ -150,3 +150,40 @@ TEST(MappingRender, SimdKernelMatchesScalarWithin1e5) {
 
 }  // namespace
 }  // namespace vigs::mapping
+
+namespace vigs::mapping {
+namespace {
+
+TEST(MappingRender, SimdBackwardMatchesScalarGradients) {
+  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
+  const RenderCamera cam = test::small_camera(200, 150, 160.0);
+  const GaussianMap g = test::random_gaussians<float>(1500, 4, 0.05, 0.95, -3.5, -1.5);
+  RasterSettings scalar_settings;
+  scalar_settings.use_simd = false;
+  Rasterizer<float> scalar(scalar_settings), simd;
+  RenderResult<float> a, b;
+  scalar.forward(g, cam, a);
+  simd.forward(g, cam, b);
+  ASSERT_EQ(a.n_contrib, b.n_contrib);
+  std::vector<float> vc(a.color.size()), vd(a.depth.size()), va(a.depth.size());
+  for (std::size_t i = 0; i < vc.size(); ++i) vc[i] = 0.01f * static_cast<float>(i % 11) - 0.05f;
+  for (std::size_t i = 0; i < vd.size(); ++i) vd[i] = 0.002f * static_cast<float>(i % 5) - 0.004f;
+  for (std::size_t i = 0; i < va.size(); ++i) va[i] = 0.003f * static_cast<float>(i % 3) - 0.003f;
+  GaussianMap ga, gb;
+  scalar.backward(g, cam, a, vc.data(), vd.data(), va.data(), ga);
+  simd.backward(g, cam, b, vc.data(), vd.data(), va.data(), gb);
+  auto check = [](const std::vector<float>& x, const std::vector<float>& y, const char* name) {
+    float scale = 0;
+    for (float v : x) scale = std::max(scale, std::abs(v));
+    for (std::size_t i = 0; i < x.size(); ++i)
+      ASSERT_NEAR(x[i], y[i], 1e-4f * scale + 1e-7f) << name << "[" << i << "]";
+  };
+  check(ga.mean_w, gb.mean_w, "mean");
+  check(ga.log_scale, gb.log_scale, "log_scale");
+  check(ga.quat_wxyz, gb.quat_wxyz, "quat");
+  check(ga.opacity_logit, gb.opacity_logit, "opacity");
+  check(ga.color_rgb, gb.color_rgb, "color");
+}
+
+}  // namespace
+}  // namespace vigs::mapping

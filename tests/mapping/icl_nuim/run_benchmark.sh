@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # ICL-NUIM livingroom1 held-out view synthesis: train on frames 0, 2, 4 with `vigs map`, render
 # the held-out frames 1 and 3 with `vigs render`, score them with `vigs eval image`.
-# Usage: tests/mapping/icl_nuim/run_benchmark.sh [BUILD_DIR] [ITERATIONS] [DATA_DIR]
+# Usage: [STRIDE=px] [KEEP_DIR=dir] tests/mapping/icl_nuim/run_benchmark.sh [BUILD_DIR] [ITERATIONS]
+#        [DATA_DIR]   (STRIDE: one Gaussian per STRIDE x STRIDE pixels, default 4)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../../.." && pwd)"
@@ -31,6 +32,7 @@ awk -v data="$data" '
 
 awk '$1 == 0 || $1 == 2 || $1 == 4' "$work/all.txt" > "$work/train.txt"
 "$vigs" map --camera "$here/camera.yaml" --frames "$work/train.txt" --iterations "$iters" \
+  --stride "${STRIDE:-4}" \
   --out "$work/map.ply" --quiet
 for f in 1 3; do
   pose="$(awk -v f="$f" '$1 == f { print $4, $5, $6, $7, $8, $9, $10 }' "$work/all.txt")"
