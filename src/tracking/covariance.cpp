@@ -37,7 +37,9 @@ void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, 
     ForkJoin::chunk(n, t, team.size(), begin, end);
     std::uint32_t idx[KdTree::kMaxK];
     float d2[KdTree::kMaxK];
-    for (std::size_t i = begin; i < end; ++i) {
+    const std::vector<std::uint32_t>& order = tree.leaf_order();
+    for (std::size_t o = begin; o < end; ++o) {
+      const std::uint32_t i = order[o];
       const int found = tree.knn(cloud.points_m[i], k, idx, d2);
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       Eigen::Matrix3d sum_sq = Eigen::Matrix3d::Zero();

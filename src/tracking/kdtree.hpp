@@ -31,6 +31,9 @@ class KdTree {
                float& sq_dist) const;
 
   [[nodiscard]] std::size_t size() const { return points_.size(); }
+  /// Original indices in leaf order: querying points in this order keeps the tree's nodes
+  /// warm in cache from one query to the next.
+  [[nodiscard]] const std::vector<std::uint32_t>& leaf_order() const { return index_; }
   /// Point i in the caller's original order.
   [[nodiscard]] const Eigen::Vector3f& point(std::uint32_t i) const { return points_[slot_of_[i]]; }
 

@@ -19,6 +19,8 @@
 #include "io/image_io.hpp"
 #include "tracking/gicp.hpp"
 #include "tracking/preprocess.hpp"
+#include "tracking/settings_from_config.hpp"
+#include "tracking/tracker.hpp"
 
 namespace vigs::tracking {
 namespace {
@@ -109,6 +111,41 @@ void BM_KnnOwnKdTree(benchmark::State& state) {
   const Data& d = data();
   GaussianCloud cloud;
   DepthToPoints(d.camera, pre_setting().depth).convert(d.depth0, d.rgb0, cloud);
+  KdTree tree(KdTree::Setting{static_cast<int>(state.range(0))});
+  std::uint32_t idx[10];
+  float d2[10];
+  for (auto _ : state) {
+    tree.build(cloud.points_m);
+    for (const std::uint32_t i : tree.leaf_order()) {
+      benchmark::DoNotOptimize(tree.knn(cloud.points_m[i], 10, idx, d2));
+    }
+  }
+}
+BENCHMARK(BM_KnnOwnKdTree)
+    ->ArgName("leaf")
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Arg(32)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_KdTreeBuild(benchmark::State& state) {
+  const Data& d = data();
+  GaussianCloud cloud;
+  DepthToPoints(d.camera, pre_setting().depth).convert(d.depth0, d.rgb0, cloud);
+  KdTree tree;
+  for (auto _ : state) {
+    tree.build(cloud.points_m);
+    benchmark::DoNotOptimize(tree.leaf_order().data());
+  }
+}
+BENCHMARK(BM_KdTreeBuild)->Unit(benchmark::kMillisecond);
+
+// The same in the frame's raster order, to show what the leaf-order traversal buys.
+void BM_KnnOwnKdTreeRasterOrder(benchmark::State& state) {
+  const Data& d = data();
+  GaussianCloud cloud;
+  DepthToPoints(d.camera, pre_setting().depth).convert(d.depth0, d.rgb0, cloud);
   KdTree tree;
   std::uint32_t idx[10];
   float d2[10];
@@ -117,7 +154,7 @@ void BM_KnnOwnKdTree(benchmark::State& state) {
     for (const auto& p : cloud.points_m) benchmark::DoNotOptimize(tree.knn(p, 10, idx, d2));
   }
 }
-BENCHMARK(BM_KnnOwnKdTree)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KnnOwnKdTreeRasterOrder)->Unit(benchmark::kMillisecond);
 
 struct NanoflannCloud {
   const std::vector<Eigen::Vector3f>* pts;
@@ -216,6 +253,33 @@ void BM_TrackingStep(benchmark::State& state) {
 BENCHMARK(BM_TrackingStep)
     ->ArgNames({"imu_guess", "threads"})
     ->ArgsProduct({{0, 1}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The tracker's per-frame work in the pipeline: frame 0 against a local map holding frame 2
+// (voxel-hash correspondences instead of a kd-tree), IMU-quality guess, config defaults.
+void BM_TrackerFrameVsLocalMap(benchmark::State& state) {
+  const Data& d = data();
+  config::TrackingSettings cfg;
+  cfg.num_threads = static_cast<int>(state.range(0));
+  Tracker tracker(d.camera, tracker_setting(cfg));
+  const geometry::Pose I = geometry::Pose::Identity();
+  tracker.track(0, d.depth2, d.rgb2, &I);  // map anchored at frame 2 = world
+  TrackingOutput out;
+  std::int64_t t_ns = 0;
+  for (auto _ : state) {
+    t_ns += 33'333'333;
+    out = tracker.track(t_ns, d.depth0, d.rgb0, &d.T_2_0_imu);
+    benchmark::DoNotOptimize(out.T_w_c.data());
+  }
+  report(state, out.gicp);
+  state.counters["tracked"] = out.status == TrackingStatus::tracked ? 1.0 : 0.0;
+  state.counters["map_points"] = static_cast<double>(tracker.local_map().num_points());
+}
+BENCHMARK(BM_TrackerFrameVsLocalMap)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
