@@ -14,6 +14,7 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "io/image_io.hpp"
@@ -288,7 +289,7 @@ void write_cloud(const std::string& path, const std::vector<Eigen::Vector3f>& pt
   const auto n = static_cast<std::uint32_t>(pts.size());
   out.write(reinterpret_cast<const char*>(&n), sizeof n);
   for (const auto& p : pts) out.write(reinterpret_cast<const char*>(p.data()), 3 * sizeof(float));
-  if (!out) throw std::runtime_error("cannot write " + path);
+  if (!out) throw std::runtime_error("cannot write " + path + " (does the folder exist?)");
 }
 
 void export_clouds(const std::string& dir) {
@@ -316,7 +317,12 @@ void export_clouds(const std::string& dir) {
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strncmp(argv[i], "--export_dir=", 13) == 0) {
-      vigs::tracking::export_clouds(argv[i] + 13);
+      try {
+        vigs::tracking::export_clouds(argv[i] + 13);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_tracking: %s\n", e.what());
+        return 1;
+      }
       for (int j = i; j + 1 < argc; ++j) argv[j] = argv[j + 1];
       --argc;
       --i;
