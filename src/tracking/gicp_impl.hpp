@@ -70,6 +70,10 @@ template <class Target>
 GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
                        const geometry::Pose& T_t_s_init) {
   GicpResult result;
+  result.T_t_s = T_t_s_init;
+  if (!T_t_s_init.matrix().allFinite()) {
+    return result;  // verdict stays diverged: nothing to start from
+  }
   geometry::Pose T = T_t_s_init;
   Linearization lin = linearize(target, source, T);
   double lambda = setting_.lm_lambda_init;

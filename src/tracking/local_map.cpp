@@ -151,6 +151,9 @@ void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c)
   const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
   for (std::size_t i = 0; i < cloud_c.size(); ++i) {
     const Eigen::Vector3f p = R * cloud_c.points_m[i] + t;
+    if (!((p * inv_voxel_).cwiseAbs().maxCoeff() < static_cast<float>(kAxisBias - 2))) {
+      continue;  // outside the addressable grid (+-2^20 voxels) or NaN
+    }
     const std::int64_t key = key_of(p);
     std::uint32_t slot = find(key);
     if (slot == kEmpty) {
@@ -176,6 +179,9 @@ void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c)
 bool LocalMap::nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
                        float& sq_dist) const {
   const Eigen::Vector3f g = q_w * inv_voxel_;
+  if (!(g.cwiseAbs().maxCoeff() < static_cast<float>(kAxisBias - 2))) {
+    return false;  // outside the addressable grid (or NaN)
+  }
   const std::int64_t c[3] = {static_cast<std::int64_t>(std::floor(g.x())),
                              static_cast<std::int64_t>(std::floor(g.y())),
                              static_cast<std::int64_t>(std::floor(g.z()))};

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "synthetic_scene.hpp"
 #include "tracking/covariance.hpp"
@@ -218,6 +219,10 @@ TEST(Gicp, EmptySourceIsDivergedNotACrash) {
                                   geometry::Pose::Identity());
   EXPECT_EQ(r.verdict, GicpVerdict::diverged);
   EXPECT_EQ(r.inlier_ratio, 0.0);
+  geometry::Pose nan_guess = geometry::Pose::Identity();
+  nan_guess.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(gicp.align(CloudTarget{&target.cloud, &target.tree}, target.cloud, nan_guess).verdict,
+            GicpVerdict::diverged);
 }
 
 }  // namespace
