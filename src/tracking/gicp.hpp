@@ -32,8 +32,12 @@ std::string_view to_string(GicpVerdict verdict);
 
 struct GicpResult {
   geometry::Pose T_t_s = geometry::Pose::Identity();  ///< source -> target
-  /// Gauss–Newton Hessian sum w J^T M J at T_t_s: the information matrix of the left
-  /// increment xi = [rotation (rad); translation (m)] in the target frame.
+  /// Gauss–Newton Hessian sum w J^T M J of the last linearisation (at T_t_s, or one
+  /// converged step before it): the information matrix of the left increment
+  /// xi = [rotation (rad); translation (m)] in the target frame. With the dimensionless
+  /// regularised covariances it is a relative information; scale it before publishing it as
+  /// a covariance. num_inliers, inlier_ratio, overlap_ratio and cost are from the same
+  /// linearisation.
   Matrix6d information = Matrix6d::Zero();
   double inlier_ratio = 0.0;   ///< source points with a correspondence / source points
   double overlap_ratio = 0.0;  ///< source points with a target point within overlap distance
