@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "tracking/fork_join.hpp"
+
 namespace vigs::tracking {
 
 class KdTree {
@@ -19,8 +21,10 @@ class KdTree {
   KdTree() = default;
   explicit KdTree(const Setting& setting) : setting_(setting) {}
 
-  /// Indexes a copy of `points` (the caller may change them afterwards).
-  void build(const std::vector<Eigen::Vector3f>& points);
+  /// Indexes a copy of `points` (finite; the caller may change them afterwards). With a
+  /// team of 2+ threads the two halves below the root are built in parallel; the tree is
+  /// the same either way.
+  void build(const std::vector<Eigen::Vector3f>& points, ForkJoin* team = nullptr);
 
   /// The k (<= kMaxK) nearest points to q, nearest first: original indices and squared
   /// distances (m^2). Returns how many were found (< k only when the tree is smaller).
@@ -45,7 +49,8 @@ class KdTree {
     std::int32_t axis = -1;            ///< -1 for a leaf
   };
   struct Result;
-  std::uint32_t build_node(std::uint32_t begin, std::uint32_t end);
+  std::uint32_t build_node(std::vector<Node>& nodes, std::uint32_t begin, std::uint32_t end);
+  float split_range(std::uint32_t begin, std::uint32_t end, std::uint32_t& mid, int& axis);
   void search(std::uint32_t node, const Eigen::Vector3f& q, float rd, float* off,
               Result& result) const;
 
@@ -54,6 +59,7 @@ class KdTree {
   std::vector<std::uint32_t> index_;     ///< slot -> original index
   std::vector<std::uint32_t> slot_of_;   ///< original index -> slot
   std::vector<Node> nodes_;
+  std::vector<Node> right_nodes_;  ///< scratch of the parallel build
 };
 
 }  // namespace vigs::tracking
