@@ -37,7 +37,7 @@ Eigen::Matrix3f regularize_covariance(const Eigen::Matrix3f& raw_m2,
                                       const CovarianceSetting& setting);
 
 /// Fills cloud.cov_raw_m2 and cloud.cov_m2 for every point; `tree` must index
-/// cloud.points_m. Points are split into fixed chunks over `team`.
+/// cloud.points_m. Points go to the team in fixed blocks (ForkJoin::for_each_interleaved).
 void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, ForkJoin& team,
                           GaussianCloud& cloud);
 

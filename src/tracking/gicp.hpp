@@ -8,9 +8,10 @@
 // points into the TARGET frame (p_t = T_t_s * p_s). For two camera frames with poses
 // T_w_0 (source) and T_w_2 (target) that is T_w_2^-1 * T_w_0.
 //
-// Determinism: each linearisation splits the source points into fixed contiguous chunks,
-// one per thread, and sums the per-thread partial H, b in thread order, so the result is
-// bit-identical run to run for the same num_threads.
+// Determinism: each linearisation deals the source points to the threads in fixed blocks of
+// 256 (round robin), each thread sums its blocks in order, and the per-thread partial H, b
+// are summed in thread order, so the result is bit-identical run to run for the same
+// num_threads.
 #include <string_view>
 #include <vector>
 

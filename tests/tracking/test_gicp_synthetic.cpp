@@ -173,6 +173,15 @@ TEST(ForkJoin, EveryMemberRunsOnceOnItsFixedChunk) {
     });
   }
   for (const int h : hits) ASSERT_EQ(h, 500);
+  std::vector<int> owner(1001, -1);
+  team.run([&](int t) {
+    ForkJoin::for_each_interleaved(owner.size(), t, team.size(), 64, [&](std::size_t i) {
+      owner[i] = owner[i] == -1 ? t : 99;  // 99: visited twice
+    });
+  });
+  for (std::size_t i = 0; i < owner.size(); ++i) {
+    ASSERT_EQ(owner[i], static_cast<int>((i / 64) % 2)) << i;
+  }
   std::size_t b0 = 0, e0 = 0, b1 = 0, e1 = 0;
   ForkJoin::chunk(1001, 0, 2, b0, e0);
   ForkJoin::chunk(1001, 1, 2, b1, e1);
