@@ -180,7 +180,7 @@ void BM_KnnNanoflann(benchmark::State& state) {
   std::uint32_t idx[10];
   float d2[10];
   for (auto _ : state) {
-    NanoflannTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(8));
+    NanoflannTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     tree.buildIndex();
     for (const auto& p : cloud.points_m) {
       benchmark::DoNotOptimize(tree.knnSearch(p.data(), 10, idx, d2));
