@@ -10,6 +10,15 @@ struct ExitCode {
 };
 
 void add_config_command(CLI::App& app, ExitCode& exit_code);
+void add_imu_command(CLI::App& app, ExitCode& exit_code);
+/// `vigs eval imu`: registered under the shared `eval` group (apps/eval_group.hpp).
+void add_eval_imu_command(CLI::App& app, ExitCode& exit_code);
 void add_align_command(CLI::App& app, ExitCode& exit_code);
+void add_mcap_command(CLI::App& app, ExitCode& exit_code);
+void add_simulate_command(CLI::App& app, ExitCode& exit_code);
+void add_eval_command(CLI::App& app, ExitCode& exit_code);
+void add_eval_image_command(CLI::App& app, ExitCode& exit_code);
+void add_render_command(CLI::App& app, ExitCode& exit_code);
+void add_map_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps

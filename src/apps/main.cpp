@@ -12,7 +12,15 @@ int main(int argc, char** argv) {
 
   vigs::apps::ExitCode exit_code;
   vigs::apps::add_config_command(app, exit_code);
+  vigs::apps::add_imu_command(app, exit_code);
+  vigs::apps::add_eval_imu_command(app, exit_code);
   vigs::apps::add_align_command(app, exit_code);
+  vigs::apps::add_mcap_command(app, exit_code);
+  vigs::apps::add_simulate_command(app, exit_code);
+  vigs::apps::add_eval_command(app, exit_code);
+  vigs::apps::add_eval_image_command(app, exit_code);
+  vigs::apps::add_render_command(app, exit_code);
+  vigs::apps::add_map_command(app, exit_code);
 
   CLI11_PARSE(app, argc, argv);
   return exit_code.value;

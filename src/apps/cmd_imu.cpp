@@ -1,0 +1,214 @@
+// `vigs imu listen` and `vigs imu play`: check a serial IMU (wiring, baud, protocol, faults)
+// without the pipeline, and play an IMU CSV as Xsens wire bytes on a pseudo-terminal so the
+// real driver can be tried without hardware.
+#include <fcntl.h>
+#include <stdlib.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "apps/commands.hpp"
+#include "core/config/default_config.hpp"
+#include "core/config/yaml_loader.hpp"
+#include "drivers/serial_imu/euroc_imu_csv.hpp"
+#include "drivers/serial_imu/serial_imu_driver.hpp"
+#include "drivers/serial_imu/xsens_encoder.hpp"
+#include "rt/clock.hpp"
+#include "rt/spsc_ring.hpp"
+
+namespace vigs::apps {
+namespace {
+
+struct ListenOptions {
+  std::string config_file;
+  std::string port;
+  int baud = 0;
+  std::string protocol;
+  double seconds = 5.0;
+};
+
+std::string json_vec(const double v[3]) {
+  std::ostringstream s;
+  s.precision(9);
+  s << '[' << v[0] << ", " << v[1] << ", " << v[2] << ']';
+  return s.str();
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + '"';
+}
+
+int run_listen(const ListenOptions& o) {
+  const auto cfg = o.config_file.empty()
+                       ? config::load_config_text(config::default_config_text(),
+                                                  std::string(config::kDefaultConfigName))
+                       : config::load_config_file(o.config_file);
+  drivers::SerialImuDriverSettings s = drivers::serial_imu_settings(cfg.imu, cfg.rt);
+  if (!o.port.empty()) s.port = o.port;
+  if (o.baud > 0) s.baud = o.baud;
+  if (!o.protocol.empty()) s.protocol = o.protocol;
+  s.realtime_thread = false;  // a diagnostic tool: no SCHED_FIFO needed
+
+  rt::SpscRing<ImuSample> ring(static_cast<std::size_t>(cfg.rt.imu_ring_capacity));
+  drivers::SerialImuDriver driver(s, ring);
+  driver.start();
+  const std::int64_t end_ns = rt::monotonic_ns() + rt::s_to_ns(o.seconds);
+  std::uint64_t count = 0;
+  std::int64_t first_ns = 0, last_ns = 0;
+  double accel_sum[3] = {}, gyro_sum[3] = {};
+  ImuSample sample;
+  for (;;) {
+    while (ring.try_pop(sample)) {
+      if (count == 0) first_ns = sample.t_ns;
+      last_ns = sample.t_ns;
+      ++count;
+      for (int k = 0; k < 3; ++k) {
+        accel_sum[k] += sample.accel_mps2[k];
+        gyro_sum[k] += sample.gyro_rps[k];
+      }
+    }
+    if (rt::monotonic_ns() >= end_ns) break;
+    rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(10));
+  }
+  driver.stop();
+  while (ring.try_pop(sample)) {  // samples released at stop
+    if (count == 0) first_ns = sample.t_ns;
+    last_ns = sample.t_ns;
+    ++count;
+    for (int k = 0; k < 3; ++k) {
+      accel_sum[k] += sample.accel_mps2[k];
+      gyro_sum[k] += sample.gyro_rps[k];
+    }
+  }
+  double accel_mean[3] = {}, gyro_mean[3] = {};
+  for (int k = 0; k < 3; ++k) {
+    accel_mean[k] = count ? accel_sum[k] / static_cast<double>(count) : 0.0;
+    gyro_mean[k] = count ? gyro_sum[k] / static_cast<double>(count) : 0.0;
+  }
+  const double span_s = rt::ns_to_s(last_ns - first_ns);
+  std::cout.precision(9);
+  std::cout << "{\"port\": " << json_string(s.port) << ", \"baud\": " << s.baud
+            << ", \"protocol\": " << json_string(s.protocol) << ", \"seconds\": " << o.seconds
+            << ", \"samples\": " << count << ", \"rate_hz\": "
+            << (count > 1 && span_s > 0 ? static_cast<double>(count - 1) / span_s : 0.0)
+            << ", \"mean_accel_mps2\": " << json_vec(accel_mean)
+            << ", \"mean_gyro_rps\": " << json_vec(gyro_mean)
+            << ", \"faults\": " << driver.faults().to_json() << "}\n";
+  return count > 0 ? 0 : 3;
+}
+
+struct PlayOptions {
+  std::string csv;
+  double delay_s = 1.0;
+  std::uint32_t stf0 = 0;
+};
+
+int run_play(const PlayOptions& o) {
+  const auto rows = drivers::read_euroc_imu_csv(o.csv);
+  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
+  if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0) {
+    throw std::system_error(errno, std::generic_category(), "posix_openpt");
+  }
+  const std::string slave = ::ptsname(master);
+  // Hold the slave open in raw mode, so the line stays configured until a reader opens it.
+  const int hold = ::open(slave.c_str(), O_RDWR | O_NOCTTY);
+  termios tio{};
+  if (hold < 0 || ::tcgetattr(hold, &tio) != 0) {
+    throw std::system_error(errno, std::generic_category(), "open " + slave);
+  }
+  ::cfmakeraw(&tio);
+  ::tcsetattr(hold, TCSANOW, &tio);
+  std::cout << "{\"pty\": " << json_string(slave) << ", \"samples\": " << rows.size()
+            << ", \"duration_s\": " << rt::ns_to_s(rows.back().t_ns - rows.front().t_ns) << "}"
+            << std::endl;
+
+  const std::int64_t start_ns = rt::monotonic_ns() + rt::s_to_ns(o.delay_s);
+  std::uint64_t bytes = 0;
+  for (const auto& r : rows) {
+    const std::int64_t dt_ns = r.t_ns - rows.front().t_ns;
+    const auto stf =
+        static_cast<std::uint32_t>(o.stf0 + static_cast<std::uint64_t>(dt_ns / 100'000));
+    const auto msg =
+        drivers::xsens::encode_mtdata2(stf, {r.accel_mps2[0], r.accel_mps2[1], r.accel_mps2[2]},
+                                       {r.gyro_rps[0], r.gyro_rps[1], r.gyro_rps[2]});
+    rt::sleep_until_ns(start_ns + dt_ns);
+    std::size_t done = 0;
+    while (done < msg.size()) {
+      const ssize_t n = ::write(master, msg.data() + done, msg.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) throw std::system_error(errno, std::generic_category(), "write to pty master");
+      done += static_cast<std::size_t>(n);
+    }
+    bytes += done;
+  }
+  // Give a reader time to drain before the hang-up discards unread bytes.
+  rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(200));
+  ::close(master);
+  ::close(hold);
+  std::cout << "{\"bytes_written\": " << bytes << "}" << std::endl;
+  return 0;
+}
+
+}  // namespace
+
+void add_imu_command(CLI::App& app, ExitCode& exit_code) {
+  auto* imu = app.add_subcommand("imu", "Serial IMU tools (driver check, pty playback)");
+  imu->require_subcommand(1);
+
+  static ListenOptions listen;
+  auto* l = imu->add_subcommand(
+      "listen",
+      "Run the serial IMU driver for a while and print samples, rate and fault counters "
+      "as JSON");
+  l->add_option("--config", listen.config_file, "robot YAML (default: built-in sim_office)")
+      ->check(CLI::ExistingFile);
+  l->add_option("--port", listen.port, "serial device (default: imu.port)");
+  l->add_option("--baud", listen.baud, "bit/s (default: imu.baud); non-standard rates use BOTHER")
+      ->check(CLI::Range(1, 4'000'000));
+  l->add_option("--protocol", listen.protocol, "wire protocol (default: imu.protocol)");
+  l->add_option("--seconds", listen.seconds, "how long to listen")->check(CLI::Range(0.1, 3600.0));
+  l->callback([&exit_code] {
+    try {
+      exit_code.value = run_listen(listen);
+    } catch (const std::exception& e) {
+      std::cerr << "vigs imu listen: " << e.what() << "\n";
+      exit_code.value = 1;
+    }
+  });
+
+  static PlayOptions play;
+  auto* p = imu->add_subcommand(
+      "play",
+      "Play an EuRoC IMU CSV as Xsens MTData2 bytes on a new pseudo-terminal, paced by "
+      "its timestamps; prints the pty path first");
+  p->add_option("CSV", play.csv, "EuRoC imu0.csv (t_ns, w xyz, a xyz)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  p->add_option("--delay", play.delay_s, "seconds to wait before the first sample")
+      ->check(CLI::Range(0.0, 60.0));
+  p->add_option("--stf0", play.stf0, "first SampleTimeFine value (10 kHz ticks)");
+  p->callback([&exit_code] {
+    try {
+      exit_code.value = run_play(play);
+    } catch (const std::exception& e) {
+      std::cerr << "vigs imu play: " << e.what() << "\n";
+      exit_code.value = 1;
+    }
+  });
+}
+
+}  // namespace vigs::apps

@@ -1,0 +1,43 @@
+#pragma once
+#include <string>
+
+#include "core/config/visitor.hpp"
+
+namespace vigs::config {
+
+/// IMU preintegration and the IMU-seeded initial guess (src/inertial/). The noise densities
+/// and gravity live in ImuSettings; the camera-to-body transform in ExtrinsicsSettings.
+struct InertialSettings {
+  std::string scheme = "midpoint";            ///< midpoint | zoh (exact zero-order hold)
+  int buffer_capacity = 4096;                 ///< samples queued ahead of the integrator
+  std::string velocity_reset = "difference";  ///< difference (the paper) | imu
+  bool estimate_gyro_bias = true;             ///< slow gyro-bias update from GICP rotations
+  double gyro_bias_gain = 0.1;                ///< fraction of the per-frame estimate applied
+  double gyro_bias_max_step_rps = 0.005;      ///< clamp of one update
+  double gyro_bias_max_rps = 0.2;             ///< clamp of the estimate's magnitude
+  double gyro_bias_gate_deg = 5.0;            ///< skip updates whose residual is larger
+
+  void visit(Visitor& v) {
+    v.field("scheme", scheme, {"midpoint", "zoh"},
+            "integration between samples: midpoint, or exact zero-order hold");
+    v.field("buffer_capacity", buffer_capacity,
+            {"samples", 16, 1 << 20,
+             "IMU samples queued ahead of the integrator; full = oldest "
+             "dropped, counted"});
+    v.field("velocity_reset", velocity_reset, {"difference", "imu"},
+            "velocity after a GICP result: difference of the last two tracked positions (the "
+            "paper), or that difference corrected by the preintegrated motion");
+    v.field("estimate_gyro_bias", estimate_gyro_bias,
+            "update the gyro bias from the IMU-vs-GICP rotation residual");
+    v.field("gyro_bias_gain", gyro_bias_gain,
+            {"-", 0.0, 1.0, "per-frame gain of the gyro-bias update"});
+    v.field("gyro_bias_max_step_rps", gyro_bias_max_step_rps,
+            {"rad/s", 0.0, 1.0, "largest change of the gyro bias in one update"});
+    v.field("gyro_bias_max_rps", gyro_bias_max_rps,
+            {"rad/s", 0.0, 1.0, "largest gyro-bias magnitude the estimate may reach"});
+    v.field("gyro_bias_gate_deg", gyro_bias_gate_deg,
+            {"deg", 0.0, 180.0, "skip the update when IMU and GICP rotations differ more"});
+  }
+};
+
+}  // namespace vigs::config

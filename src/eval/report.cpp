@@ -1,0 +1,222 @@
+#include "eval/report.hpp"
+
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <stdexcept>
+
+#include "eval/gnuplot.hpp"
+#include "eval/mcap_trajectory.hpp"
+#include "eval/trajectory_file.hpp"
+#include "io/atomic_file.hpp"
+
+namespace vigs::eval {
+namespace fs = std::filesystem;
+namespace {
+
+void write_text(const std::string& path, const std::string& text) {
+  io::write_file_atomically(path, [&](std::FILE* f) {
+    if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) {
+      throw std::runtime_error(path + ": write failed");
+    }
+  });
+}
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string stats_row(const std::string& name, const ErrorStats& s, const char* f) {
+  return "| " + name + " | " + std::to_string(s.count) + " | " + fmt(f, s.rmse) + " | " +
+         fmt(f, s.mean) + " | " + fmt(f, s.median) + " | " + fmt(f, s.std) + " | " + fmt(f, s.min) +
+         " | " + fmt(f, s.max) + " |\n";
+}
+
+/// Data files and a gnuplot script; PNGs are rendered to temporary names and renamed.
+std::vector<std::string> draw_plots(const ReportOptions& opt, const ReportResult& r,
+                                    std::vector<std::string>& warnings) {
+  const fs::path dir = fs::path(opt.results_dir) / "plots";
+  fs::create_directories(dir);
+  const double t0 = r.ate.t_s.empty() ? 0.0 : r.ate.t_s.front();
+  // Top view: the two axes along which the ground truth spreads most (x-y for z-up worlds,
+  // x-z for camera-convention worlds such as KITTI).
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& p : r.ate.p_gt_m) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Eigen::Vector3d extent = hi - lo;
+  int drop = 0;
+  extent.minCoeff(&drop);
+  const int ax = drop == 0 ? 1 : 0, ay = drop == 2 ? 1 : 2;
+  const char* names = "xyz";
+  std::string top, err;
+  for (std::size_t i = 0; i < r.ate.pairs; ++i) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%.6f %.6f %.6f %.6f\n", r.ate.p_gt_m[i][ax],
+                  r.ate.p_gt_m[i][ay], r.ate.p_est_m[i][ax], r.ate.p_est_m[i][ay]);
+    top += line;
+    std::snprintf(line, sizeof line, "%.6f %.6f\n", r.ate.t_s[i] - t0, r.ate.error_m[i]);
+    err += line;
+  }
+  write_text((dir / "trajectory_top.dat").string(), top);
+  write_text((dir / "ate_over_time.dat").string(), err);
+  const std::string top_png = (dir / "trajectory_top.png").string();
+  const std::string err_png = (dir / "ate_over_time.png").string();
+  std::string script =
+      "set terminal pngcairo size 900,800 font 'sans,11'\n"
+      "set output '" +
+      top_png +
+      ".tmp'\n"
+      "set title 'Trajectory, top view (estimate aligned " +
+      alignment_name(opt.ate.align) + ")'\nset xlabel '" + names[ax] + " [m]'\nset ylabel '" +
+      names[ay] +
+      " [m]'\nset size ratio -1\nset grid\nset key outside "
+      "bottom center horizontal\n"
+      "plot '" +
+      (dir / "trajectory_top.dat").string() +
+      "' using 1:2 with lines lw 2 lc rgb '#303030' title 'ground truth', '' using 3:4 with "
+      "lines lw 1.5 lc rgb '#d03020' title 'estimate'\n"
+      "set output\n"
+      "set terminal pngcairo size 1000,450 font 'sans,11'\n"
+      "set output '" +
+      err_png +
+      ".tmp'\n"
+      "set size noratio\nset title 'Absolute trajectory error over time (RMSE " +
+      fmt("%.4f", r.ate.stats.rmse) +
+      " m)'\nset xlabel 'time [s]'\nset ylabel 'error [m]'\nset key off\n"
+      "plot '" +
+      (dir / "ate_over_time.dat").string() +
+      "' using 1:2 with lines lc rgb '#2060c0'\n"
+      "set output\n";
+  const std::string script_path = (dir / "plots.gp").string();
+  write_text(script_path, script);
+  const std::string why = run_gnuplot(script_path, (dir / "gnuplot.log").string());
+  if (!why.empty()) {
+    warnings.push_back("plots not drawn: " + why);
+    return {};
+  }
+  std::vector<std::string> out;
+  for (const auto& png : {top_png, err_png}) {
+    std::error_code ec;
+    fs::rename(png + ".tmp", png, ec);
+    if (ec) {
+      warnings.push_back("plot " + png + " not written: " + ec.message());
+    } else {
+      out.push_back(png);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+ReportResult write_report(const ReportOptions& opt) {
+  if (!fs::is_directory(opt.results_dir)) {
+    throw std::invalid_argument(opt.results_dir + ": not a results directory");
+  }
+  Trajectory gt = load_any_trajectory(opt.gt_path);
+  if (opt.estimate_is_camera) {
+    for (auto& p : gt.poses) p.T_w_x = p.T_w_x * opt.T_b_c;
+  }
+  const std::string est_path = (fs::path(opt.results_dir) / opt.estimate_name).string();
+  if (!fs::exists(est_path)) {
+    throw std::invalid_argument(est_path + ": no estimated trajectory (TUM file) in the results");
+  }
+  const Trajectory est = load_trajectory_file(est_path);
+  ReportResult r;
+  r.ate = compute_ate(gt, est, opt.ate);
+  RpeOptions rf;
+  rf.max_dt_s = opt.ate.max_dt_s;
+  rf.align = opt.ate.align == Alignment::kSim3 ? Alignment::kSim3 : Alignment::kNone;
+  r.rpe_frame = compute_rpe(gt, est, rf);
+  RpeOptions rm = rf;
+  rm.unit = DeltaUnit::kMetres;
+  rm.delta = opt.rpe_delta_m;
+  try {
+    r.rpe_metre = compute_rpe(gt, est, rm);
+  } catch (const std::invalid_argument& e) {
+    r.warnings.push_back(std::string("RPE over ") + fmt("%.2f", opt.rpe_delta_m) +
+                         " m not computed: " + e.what());
+  }
+  if (opt.plots) r.plots = draw_plots(opt, r, r.warnings);
+
+  std::string md = "# VIGS evaluation report\n\n";
+  md += "- results: `" + opt.results_dir + "`\n- estimate: `" + est_path + "` (" +
+        (opt.estimate_is_camera ? "camera poses T_w_c; ground truth body poses moved to the "
+                                  "camera with T_b_c"
+                                : "body poses T_w_b") +
+        ")\n- ground truth: `" + opt.gt_path + "`\n";
+  md += "- association: TUM greedy unique matching, |dt| < " + fmt("%.4g", opt.ate.max_dt_s) +
+        " s; " + std::to_string(r.ate.pairs) + " of " + std::to_string(est.poses.size()) +
+        " estimated poses matched\n";
+  md += "- alignment: " + std::string(alignment_name(opt.ate.align)) + " (Umeyama on positions)" +
+        (opt.ate.align == Alignment::kSim3 ? ", scale " + fmt("%.6f", r.ate.alignment.s) : "") +
+        "\n\n";
+  md += "## Absolute trajectory error (m)\n\n";
+  md +=
+      "RMSE is the root mean square of the per-pose errors. GS-ICP SLAM and SplaTAM print the "
+      "*mean* under the name \"ATE RMSE\"; compare their figures with the mean column.\n\n";
+  md +=
+      "| metric | pairs | rmse | mean | median | std | min | max "
+      "|\n|---|---|---|---|---|---|---|---|\n";
+  md += stats_row("ATE translation [m]", r.ate.stats, "%.4f");
+  md += "\n## Relative pose error\n\n";
+  md +=
+      "| metric | pairs | rmse | mean | median | std | min | max "
+      "|\n|---|---|---|---|---|---|---|---|\n";
+  md += stats_row("RPE translation per frame [m]", r.rpe_frame.translation_m, "%.4f");
+  md += stats_row("RPE rotation per frame [deg]", r.rpe_frame.rotation_deg, "%.4f");
+  if (r.rpe_metre.pairs > 0) {
+    md += stats_row("RPE translation per " + fmt("%.2g", opt.rpe_delta_m) + " m [m]",
+                    r.rpe_metre.translation_m, "%.4f");
+    md += stats_row("RPE rotation per " + fmt("%.2g", opt.rpe_delta_m) + " m [deg]",
+                    r.rpe_metre.rotation_deg, "%.4f");
+  }
+  md += "\n## Plots\n\n";
+  for (const auto& p : r.plots) {
+    md +=
+        "![" + fs::path(p).stem().string() + "](plots/" + fs::path(p).filename().string() + ")\n\n";
+  }
+  if (r.plots.empty()) md += "No plots were drawn (see the notes below).\n\n";
+  md += "## Not measured in this report\n\n";
+  md +=
+      "- **PSNR and SSIM** (every 5th frame, and separately on held-out frames never used as "
+      "keyframes), the **rendered views beside ground truth**, **frames per second**, **peak "
+      "memory** and the **Gaussian count** need the mapping and pipeline outputs (rendered "
+      "images, run statistics); they are added to this report with those components and are "
+      "not estimated here.\n";
+  md +=
+      "- **LPIPS** needs pretrained network weights (AlexNet/VGG) that cannot be fetched on "
+      "this machine, so it is not reported.\n";
+  for (const auto& w : r.warnings) md += "- Note: " + w + "\n";
+  r.report_path = (fs::path(opt.results_dir) / "report.md").string();
+  write_text(r.report_path, md);
+  return r;
+}
+
+std::string report_json(const ReportResult& r, const ReportOptions& opt) {
+  std::string plots = "[";
+  for (std::size_t i = 0; i < r.plots.size(); ++i) {
+    plots += (i ? ", \"" : "\"") + r.plots[i] + "\"";
+  }
+  plots += "]";
+  RpeOptions rf;
+  rf.max_dt_s = opt.ate.max_dt_s;
+  rf.align = opt.ate.align == Alignment::kSim3 ? Alignment::kSim3 : Alignment::kNone;
+  std::string json = "{\"report\": \"" + r.report_path +
+                     "\", \"ate\": " + ate_json(r.ate, opt.ate) +
+                     ", \"rpe_frame\": " + rpe_json(r.rpe_frame, rf);
+  if (r.rpe_metre.pairs > 0) {
+    RpeOptions rm = rf;
+    rm.unit = DeltaUnit::kMetres;
+    rm.delta = opt.rpe_delta_m;
+    json += ", \"rpe_metre\": " + rpe_json(r.rpe_metre, rm);
+  }
+  json += ", \"plots\": " + plots + ", \"psnr\": null, \"ssim\": null, \"lpips\": null}";
+  return json;
+}
+
+}  // namespace vigs::eval

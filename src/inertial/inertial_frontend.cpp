@@ -1,0 +1,147 @@
+#include "inertial/inertial_frontend.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "inertial/imu_interpolation.hpp"
+
+namespace vigs::inertial {
+
+InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings& imu,
+                                                      const config::ExtrinsicsSettings& extrinsics,
+                                                      const config::InertialSettings& inertial) {
+  InertialFrontendOptions o;
+  if (!parse_integration_scheme(inertial.scheme, o.scheme)) {
+    o.scheme = IntegrationScheme::kMidpoint;  // the config schema admits only the two names
+  }
+  o.noise = ImuNoise::from(imu);
+  o.g_w_mps2 = gravity_w(imu.gravity_mps2);
+  Eigen::Matrix3d R_b_c;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) R_b_c(r, c) = extrinsics.R_b_c[static_cast<std::size_t>(r * 3 + c)];
+  }
+  o.T_b_c = geometry::Pose::Identity();
+  o.T_b_c.linear() = R_b_c;
+  o.T_b_c.translation() =
+      Eigen::Vector3d(extrinsics.t_b_c_m[0], extrinsics.t_b_c_m[1], extrinsics.t_b_c_m[2]);
+  o.time_offset_ns = static_cast<std::int64_t>(std::llround(imu.time_offset_s * 1e9));
+  o.buffer_capacity = inertial.buffer_capacity;
+  o.velocity_reset =
+      inertial.velocity_reset == "imu" ? VelocityReset::kImu : VelocityReset::kDifference;
+  o.estimate_gyro_bias = inertial.estimate_gyro_bias;
+  o.bias = GyroBiasEstimatorOptions::from(inertial);
+  return o;
+}
+
+InertialFrontend::InertialFrontend(const InertialFrontendOptions& options)
+    : options_(options),
+      ring_(static_cast<std::size_t>(std::max(2, options.buffer_capacity))),
+      pi_(options.scheme, options.noise),
+      bias_(options.bias) {}
+
+void InertialFrontend::set_biases(const Eigen::Vector3d& gyro_rps,
+                                  const Eigen::Vector3d& accel_mps2) {
+  bias_.set_bias_rps(gyro_rps);
+  bias_accel_mps2_ = accel_mps2;
+}
+
+bool InertialFrontend::add_sample(const ImuSample& s) {
+  if (s.t_ns < last_queued_t_ns_) {
+    ++counters_.samples_out_of_order;
+    return false;
+  }
+  if (count_ == ring_.size()) {
+    pop_front();
+    ++counters_.samples_dropped;
+  }
+  ring_[(head_ + count_) % ring_.size()] = s;
+  ++count_;
+  last_queued_t_ns_ = s.t_ns;
+  ++counters_.samples_added;
+  return true;
+}
+
+void InertialFrontend::pop_front() {
+  head_ = (head_ + 1) % ring_.size();
+  --count_;
+}
+
+void InertialFrontend::advance_to(std::int64_t t_ns) {
+  while (count_ > 0 && front().t_ns <= t_ns) {
+    const ImuSample s = front();
+    pop_front();
+    if (started_ && s.t_ns > pi_.t_end_ns()) pi_.integrate(s);
+    last_consumed_ = s;
+    has_consumed_ = true;
+  }
+}
+
+ImuSample InertialFrontend::reading_at(std::int64_t t_ns) {
+  if (has_consumed_ && last_consumed_.t_ns == t_ns) return last_consumed_;
+  if (count_ > 0) {
+    if (has_consumed_) return interpolate_sample(last_consumed_, front(), t_ns);
+    ++counters_.extrapolated;
+    return interpolate_sample(front(), front(), t_ns);
+  }
+  ++counters_.extrapolated;
+  return interpolate_sample(last_consumed_, last_consumed_, t_ns);
+}
+
+std::optional<NavState> InertialFrontend::predict_state(std::int64_t t_cam_ns) {
+  const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
+  if (!started_ || t_ns < pi_.t_end_ns()) return std::nullopt;
+  advance_to(t_ns);
+  Preintegrator p = pi_;
+  if (t_ns > p.t_end_ns()) p.integrate(reading_at(t_ns));
+  const DeltaState d = p.predict_with_bias(bias_.bias_rps(), bias_accel_mps2_);
+  return predict_nav_state(state_, d, options_.g_w_mps2);
+}
+
+std::optional<geometry::Pose> InertialFrontend::predict_camera_pose(std::int64_t t_ns) {
+  const std::optional<NavState> s = predict_state(t_ns);
+  if (!s) return std::nullopt;
+  // T_w_c(k) = T_w_c(k-1) * T_c_b * T_b(k-1 -> k) * T_b_c
+  return T_w_c_last_ * options_.T_b_c.inverse() * relative_body_motion(state_, *s) * options_.T_b_c;
+}
+
+bool InertialFrontend::reset_from_tracked(std::int64_t t_cam_ns, const geometry::Pose& T_w_c) {
+  const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
+  if (started_ && t_ns < pi_.t_end_ns()) return false;
+  advance_to(t_ns);
+  const ImuSample r = reading_at(t_ns);
+  const geometry::Pose T_w_b = T_w_c * options_.T_b_c.inverse();
+  NavState s;
+  s.R_w_b = T_w_b.linear();
+  s.p_w_b_m = T_w_b.translation();
+  if (started_) {
+    if (t_ns > pi_.t_end_ns()) pi_.integrate(r);
+    if (options_.estimate_gyro_bias) {
+      bias_.update(pi_, Eigen::Matrix3d(state_.R_w_b.transpose() * s.R_w_b));
+    }
+    const double dt_s = 1e-9 * static_cast<double>(t_ns - t_last_ns_);
+    if (dt_s > 0.0) {
+      const Eigen::Vector3d dp_w = s.p_w_b_m - state_.p_w_b_m;
+      if (options_.velocity_reset == VelocityReset::kImu) {
+        // p_k = p_{k-1} + v_{k-1} dt + g dt^2/2 + R_{k-1} dp gives v_{k-1}; then
+        // v_k = v_{k-1} + g dt + R_{k-1} dv.
+        const DeltaState d = pi_.predict_with_bias(bias_.bias_rps(), bias_accel_mps2_);
+        const Eigen::Vector3d g = options_.g_w_mps2;
+        const Eigen::Vector3d v_prev = (dp_w - 0.5 * g * dt_s * dt_s - state_.R_w_b * d.p_m) / dt_s;
+        s.v_w_b_mps = v_prev + g * dt_s + state_.R_w_b * d.v_mps;
+      } else {
+        s.v_w_b_mps = dp_w / dt_s;
+      }
+    } else {
+      s.v_w_b_mps = state_.v_w_b_mps;
+    }
+  }
+  state_ = s;
+  T_w_c_last_ = T_w_c;
+  t_last_ns_ = t_ns;
+  started_ = true;
+  pi_.reset(r, bias_.bias_rps(), bias_accel_mps2_);
+  ++counters_.resets;
+  return true;
+}
+
+}  // namespace vigs::inertial

@@ -1,0 +1,109 @@
+#pragma once
+// IMU-seeded initial guess for GICP tracking, as in VIGS (Pak & Kim): the camera pose at
+// frame k is composed from the last tracked camera pose and the body motion the IMU predicts,
+//   T_w_c(k) = T_w_c(k-1) * T_c_b * T_b(k-1 -> k) * T_b_c,
+// where T_b(k-1 -> k) comes from preintegration with gravity in the (z-up) world frame.
+// After each GICP result the integrator restarts at that frame with R and p of the tracked
+// body pose and v from the last two tracked body positions (dp / dt), and, optionally, a slow
+// gyro-bias update from the IMU-vs-GICP rotation residual (gyro_bias_estimator.hpp).
+//
+// Samples are queued in a ring allocated at construction and integrated once each, lazily,
+// up to the requested frame time; a prediction then adds one interpolated partial step. No
+// call allocates, locks or logs after construction. Single-threaded: the tracker owns it.
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/config/extrinsics_settings.hpp"
+#include "core/config/imu_settings.hpp"
+#include "core/config/inertial_settings.hpp"
+#include "core/geometry/se3.hpp"
+#include "core/types/imu_sample.hpp"
+#include "inertial/gyro_bias_estimator.hpp"
+#include "inertial/nav_state.hpp"
+#include "inertial/preintegrator.hpp"
+
+namespace vigs::inertial {
+
+enum class VelocityReset {
+  kDifference,  ///< v = (p_k - p_{k-1}) / dt (the paper; the mean velocity over the interval)
+  kImu,         ///< the same difference, corrected by the preintegrated motion to time k
+};
+
+struct InertialFrontendOptions {
+  IntegrationScheme scheme = IntegrationScheme::kMidpoint;
+  ImuNoise noise;
+  Eigen::Vector3d g_w_mps2{0.0, 0.0, -9.81};
+  geometry::Pose T_b_c = geometry::Pose::Identity();  ///< camera-to-body extrinsic
+  std::int64_t time_offset_ns = 0;  ///< IMU clock minus camera clock (imu.time_offset_s)
+  int buffer_capacity = 4096;
+  VelocityReset velocity_reset = VelocityReset::kDifference;
+  bool estimate_gyro_bias = true;
+  GyroBiasEstimatorOptions bias;
+
+  static InertialFrontendOptions from(const config::ImuSettings& imu,
+                                      const config::ExtrinsicsSettings& extrinsics,
+                                      const config::InertialSettings& inertial);
+};
+
+struct InertialFrontendCounters {
+  long samples_added = 0;
+  long samples_out_of_order = 0;  ///< older than the last queued sample: refused
+  long samples_dropped = 0;       ///< oldest queued sample dropped because the ring was full
+  long extrapolated = 0;          ///< frame time beyond the newest sample: reading held
+  long resets = 0;
+};
+
+class InertialFrontend {
+ public:
+  explicit InertialFrontend(const InertialFrontendOptions& options);
+
+  /// Queues one sample. Refuses (returns false) samples older than the last one queued.
+  bool add_sample(const ImuSample& s);
+
+  /// Frame times t_ns below are camera stamps; the IMU is read at t_ns + time_offset_ns.
+  /// Camera pose guess at t_ns. nullopt before the first reset_from_tracked() or for a time
+  /// before the last reset.
+  [[nodiscard]] std::optional<geometry::Pose> predict_camera_pose(std::int64_t t_ns);
+  /// The predicted body state at t_ns (same conditions).
+  [[nodiscard]] std::optional<NavState> predict_state(std::int64_t t_ns);
+
+  /// Tracked camera pose at t_ns from GICP: restarts the integrator at t_ns. Returns false for
+  /// a time before the last reset.
+  bool reset_from_tracked(std::int64_t t_ns, const geometry::Pose& T_w_c);
+
+  /// Biases used for the next interval; setting them before the first reset seeds them.
+  void set_biases(const Eigen::Vector3d& gyro_rps, const Eigen::Vector3d& accel_mps2);
+  [[nodiscard]] const Eigen::Vector3d& bias_gyro_rps() const { return bias_.bias_rps(); }
+  [[nodiscard]] const Eigen::Vector3d& bias_accel_mps2() const { return bias_accel_mps2_; }
+  [[nodiscard]] const NavState& state_at_reset() const { return state_; }
+  [[nodiscard]] const Preintegrator& preintegrator() const { return pi_; }
+  [[nodiscard]] const GyroBiasEstimator& bias_estimator() const { return bias_; }
+  [[nodiscard]] const InertialFrontendCounters& counters() const { return counters_; }
+
+ private:
+  void advance_to(std::int64_t t_ns);
+  [[nodiscard]] ImuSample reading_at(std::int64_t t_ns);
+  [[nodiscard]] const ImuSample& front() const { return ring_[head_]; }
+  void pop_front();
+
+  InertialFrontendOptions options_;
+  std::vector<ImuSample> ring_;
+  std::size_t head_ = 0;
+  std::size_t count_ = 0;
+  std::int64_t last_queued_t_ns_ = INT64_MIN;
+  ImuSample last_consumed_;
+  bool has_consumed_ = false;
+
+  Preintegrator pi_;
+  bool started_ = false;
+  NavState state_;              ///< body state at the last reset
+  geometry::Pose T_w_c_last_;   ///< last tracked camera pose
+  std::int64_t t_last_ns_ = 0;  ///< time of the last reset
+  GyroBiasEstimator bias_;
+  Eigen::Vector3d bias_accel_mps2_ = Eigen::Vector3d::Zero();
+  InertialFrontendCounters counters_;
+};
+
+}  // namespace vigs::inertial

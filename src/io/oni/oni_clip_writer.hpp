@@ -1,0 +1,42 @@
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+namespace vigs::io::oni {
+
+/// Geometry and timing of an RGB-D clip. Both streams share the resolution.
+struct OniClipSettings {
+  std::uint32_t width = 640;   ///< px
+  std::uint32_t height = 480;  ///< px
+  std::uint32_t fps = 30;      ///< frames per second of both streams
+  double hfov_rad = 1.0226;    ///< horizontal field of view (ASUS Xtion / PrimeSense 58 deg)
+  double vfov_rad = 0.7966;    ///< vertical field of view (45.6 deg)
+};
+
+/// Writes a short uncompressed RGB-D `.oni` clip that real OpenNI2 plays back
+/// (`openni::Device::open(path)`, PlaybackControl, depth PIXEL_FORMAT_DEPTH_1_MM and colour
+/// PIXEL_FORMAT_RGB888 streams). Frames are kept in memory and the file is written atomically
+/// (temp file, then rename) by close(): clips are test fixtures of a few frames, not recordings.
+class OniClipWriter {
+ public:
+  /// Throws IoError if the settings are invalid (zero size, fps 0).
+  OniClipWriter(std::string path, OniClipSettings settings);
+  ~OniClipWriter();
+  OniClipWriter(const OniClipWriter&) = delete;
+  OniClipWriter& operator=(const OniClipWriter&) = delete;
+
+  /// Appends one frame: `depth_mm` has width*height values (0 = no depth), `rgb` has
+  /// width*height*3 bytes (R G B per pixel, rows top to bottom). Throws IoError on bad sizes.
+  void add_frame(std::span<const std::uint16_t> depth_mm, std::span<const std::uint8_t> rgb);
+
+  /// Writes the file. Throws IoError (naming the path) on failure. Idempotent.
+  void close();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vigs::io::oni

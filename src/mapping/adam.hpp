@@ -1,0 +1,90 @@
+#pragma once
+// Adam with one learning rate per parameter group (mean, log-scale, quaternion, opacity logit,
+// colour), moments kept in the same structure-of-arrays layout as the map.
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "mapping/gaussian_map.hpp"
+
+namespace vigs::mapping {
+
+struct AdamSettings {
+  double lr_mean = 4e-6;
+  double lr_log_scale = 5e-3;
+  double lr_quat = 1e-3;
+  double lr_opacity = 0.05;
+  double lr_color = 2.5e-3;
+  double beta1 = 0.9;
+  double beta2 = 0.999;
+  double eps = 1e-15;  ///< as 3DGS
+};
+
+class Adam {
+ public:
+  explicit Adam(AdamSettings s = {}) : s_(s) {}
+
+  [[nodiscard]] const AdamSettings& settings() const { return s_; }
+  AdamSettings& settings() { return s_; }
+
+  /// One step on every Gaussian, as torch.optim.Adam with one global step count: moments of
+  /// newly appended Gaussians start at zero.
+  void step(GaussianMap& params, const GaussianMap& grad);
+
+  /// The same step with gradients supplied per Gaussian by grad_of(i, float g[14]) (order:
+  /// mean 3, log-scale 3, quaternion 4, opacity logit, colour 3), so that no full gradient
+  /// copy of the map is needed. `ranges` runs a callable(begin, end) over a split of [0, n).
+  template <class GradFn, class Ranges>
+  void step_fused(GaussianMap& p, GradFn&& grad_of, Ranges&& ranges) {
+    grow(p.size());
+    const Coeffs c = begin_step();
+    ranges(p.size(), [&](std::size_t b, std::size_t e) {
+      float gr[14];
+      for (std::size_t i = b; i < e; ++i) {
+        grad_of(i, gr);
+        for (std::size_t k = 0; k < 3; ++k) {
+          update_one(p.mean_w[3 * i + k], gr[k], m_.mean_w[3 * i + k], v_.mean_w[3 * i + k], c,
+                     c.step_mean);
+          update_one(p.log_scale[3 * i + k], gr[3 + k], m_.log_scale[3 * i + k],
+                     v_.log_scale[3 * i + k], c, c.step_log_scale);
+          update_one(p.color_rgb[3 * i + k], gr[11 + k], m_.color_rgb[3 * i + k],
+                     v_.color_rgb[3 * i + k], c, c.step_color);
+        }
+        for (std::size_t k = 0; k < 4; ++k)
+          update_one(p.quat_wxyz[4 * i + k], gr[6 + k], m_.quat_wxyz[4 * i + k],
+                     v_.quat_wxyz[4 * i + k], c, c.step_quat);
+        update_one(p.opacity_logit[i], gr[10], m_.opacity_logit[i], v_.opacity_logit[i], c,
+                   c.step_opacity);
+      }
+    });
+  }
+
+  /// Applies the same compaction as GaussianParams::compact to the moments.
+  template <class Mask>
+  void compact(const Mask& keep) {
+    m_.compact(keep);
+    v_.compact(keep);
+  }
+
+  [[nodiscard]] long steps() const { return step_; }
+  [[nodiscard]] std::size_t bytes() const;
+
+ private:
+  struct Coeffs {
+    float b1, b2, inv_sqrt_bc2, eps;
+    float step_mean, step_log_scale, step_quat, step_opacity, step_color;  ///< lr / bc1
+  };
+  Coeffs begin_step();
+  static void update_one(float& p, float g, float& m, float& v, const Coeffs& c, float step) {
+    m = c.b1 * m + (1.0f - c.b1) * g;
+    v = c.b2 * v + (1.0f - c.b2) * g * g;
+    p -= step * m / (std::sqrt(v) * c.inv_sqrt_bc2 + c.eps);
+  }
+  void grow(std::size_t n);
+
+  AdamSettings s_;
+  GaussianMap m_, v_;
+  long step_ = 0;
+};
+
+}  // namespace vigs::mapping

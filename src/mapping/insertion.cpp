@@ -1,0 +1,69 @@
+#include "mapping/insertion.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+namespace vigs::mapping {
+
+void covariance_to_rotation_scale(const Eigen::Matrix3d& cov, Eigen::Quaterniond& q,
+                                  Eigen::Vector3d& std_dev) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (cov + cov.transpose()));
+  // ascending eigenvalues -> largest first
+  Eigen::Matrix3d V;
+  for (int k = 0; k < 3; ++k) {
+    V.col(k) = es.eigenvectors().col(2 - k);
+    std_dev(k) = std::sqrt(std::max(0.0, es.eigenvalues()(2 - k)));
+  }
+  if (V.determinant() < 0) V.col(2) = -V.col(2);
+  q = Eigen::Quaterniond(V);
+  q.normalize();
+}
+
+std::uint64_t GaussianInserter::key(const Eigen::Vector3d& p_w) const {
+  auto cell = [&](double v) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / s_.voxel_m)) +
+                                      (1 << 20)) &
+           0x1FFFFFu;
+  };
+  return cell(p_w.x()) | (cell(p_w.y()) << 21) | (cell(p_w.z()) << 42);
+}
+
+void GaussianInserter::rebuild(const GaussianMap& map) {
+  occupied_.clear();
+  for (std::size_t i = 0; i < map.size(); ++i)
+    occupied_.insert(
+        key(Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2])));
+}
+
+std::size_t GaussianInserter::insert(GaussianMap& map, const KeyframeGaussians& kf) {
+  const std::size_t n = kf.points_c.size();
+  const Eigen::Matrix3d R_w_c = kf.T_w_c.linear();
+  const float logit_op = static_cast<float>(std::log(s_.opacity / (1.0 - s_.opacity)));
+  std::size_t added = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p_c = kf.points_c[i].cast<double>();
+    if (!(p_c.z() > 0) || !p_c.allFinite()) continue;
+    const Eigen::Vector3d p_w = kf.T_w_c * p_c;
+    if (!occupied_.insert(key(p_w)).second) continue;
+    Eigen::Quaterniond q_c;
+    Eigen::Vector3d sd;
+    covariance_to_rotation_scale(kf.covariances_c[i].cast<double>(), q_c, sd);
+    const double z_div = std::max(1.0, 2.0 * std::pow(p_c.z(), 1.5));
+    const Eigen::Quaterniond q_w(R_w_c * q_c.toRotationMatrix());
+    const float mean[3] = {static_cast<float>(p_w.x()), static_cast<float>(p_w.y()),
+                           static_cast<float>(p_w.z())};
+    float log_s[3];
+    for (int k = 0; k < 3; ++k)
+      log_s[k] = static_cast<float>(std::log(std::max(s_.min_scale_m, sd(k) / z_div)));
+    const float quat[4] = {static_cast<float>(q_w.w()), static_cast<float>(q_w.x()),
+                           static_cast<float>(q_w.y()), static_cast<float>(q_w.z())};
+    const float rgb[3] = {kf.colors[i].x(), kf.colors[i].y(), kf.colors[i].z()};
+    map.push_back(mean, log_s, quat, logit_op, rgb);
+    ++added;
+  }
+  return added;
+}
+
+}  // namespace vigs::mapping

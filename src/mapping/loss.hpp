@@ -1,0 +1,47 @@
+#pragma once
+// Training loss of the map: (1 - lambda) L1(colour) + lambda (1 - SSIM) + lambda_D L1(depth).
+// Colour terms are masked where the target depth is missing (when a target depth is given);
+// SSIM uses the 11x11 Gaussian window (sigma 1.5) over valid windows, with its analytic
+// gradient.
+#include <vector>
+
+#include "mapping/rasterizer.hpp"
+#include "mapping/ssim.hpp"
+
+namespace vigs::mapping {
+
+struct LossSettings {
+  double lambda_ssim = 0.2;   ///< weight of (1 - SSIM) against L1 colour
+  double lambda_depth = 0.1;  ///< weight of the depth L1 term (metres)
+};
+
+template <class T>
+struct LossTerms {
+  T total = 0;
+  T l1_color = 0;
+  T ssim = 0;
+  T l1_depth_m = 0;
+};
+
+template <class T>
+class PhotometricLoss {
+ public:
+  explicit PhotometricLoss(LossSettings s = {}, WorkerPool* pool = nullptr);
+
+  /// target_rgb: 3 per pixel in [0, 1]; target_depth_m: 1 per pixel, 0 = missing, may be null.
+  /// Writes dL/d(colour) and dL/d(depth) (sizes 3 and 1 per pixel) when they are not null.
+  LossTerms<T> evaluate(const RenderResult<T>& r, const T* target_rgb, const T* target_depth_m,
+                        T* v_color, T* v_depth);
+
+  [[nodiscard]] const LossSettings& settings() const { return s_; }
+
+ private:
+  LossSettings s_;
+  Ssim<T> ssim_;
+  std::vector<T> mask_, ssim_grad_;
+};
+
+extern template class PhotometricLoss<float>;
+extern template class PhotometricLoss<double>;
+
+}  // namespace vigs::mapping

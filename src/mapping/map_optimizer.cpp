@@ -1,0 +1,79 @@
+#include "mapping/map_optimizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace vigs::mapping {
+
+std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s) {
+  std::vector<char> keep(map.size(), 1);
+  const float logit_min = static_cast<float>(std::log(s.min_opacity / (1.0 - s.min_opacity)));
+  const float log_max = static_cast<float>(std::log(s.max_scale_m));
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    const float* ls = &map.log_scale[3 * i];
+    const bool too_big = std::max({ls[0], ls[1], ls[2]}) > log_max;
+    const bool too_thin = map.opacity_logit[i] < logit_min;
+    const bool bad = !std::isfinite(map.opacity_logit[i]) || !std::isfinite(map.mean_w[3 * i]);
+    keep[i] = (too_big || too_thin || bad) ? 0 : 1;
+  }
+  return keep;
+}
+
+AdamSettings adam_settings_from(const config::MappingSettings& s) {
+  AdamSettings a;
+  a.lr_mean = s.lr_mean;
+  a.lr_log_scale = s.lr_log_scale;
+  a.lr_quat = s.lr_quat;
+  a.lr_opacity = s.lr_opacity;
+  a.lr_color = s.lr_color;
+  return a;
+}
+
+MapOptimizer::MapOptimizer(const config::MappingSettings& s, WorkerPool* pool)
+    : s_(s),
+      raster_(RasterSettings{}, pool),
+      loss_(LossSettings{s.lambda_ssim, s.lambda_depth}, pool),
+      adam_(adam_settings_from(s)) {}
+
+LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& view,
+                                       std::size_t* pruned) {
+  raster_.forward(map, view.camera, render_);
+  const std::size_t np = static_cast<std::size_t>(render_.width) * render_.height;
+  v_color_.resize(3 * np);
+  v_depth_.resize(np);
+  const LossTerms<float> terms =
+      loss_.evaluate(render_, view.rgb, view.depth_m, v_color_.data(), v_depth_.data());
+  raster_.accumulate_gradients(map, view.camera, render_, v_color_.data(),
+                               view.depth_m ? v_depth_.data() : nullptr, nullptr);
+  // fused: each Gaussian's gradient goes straight into its Adam update, no gradient copy
+  adam_.step_fused(
+      map, [&](std::size_t i, float* g) { raster_.gaussian_gradient(map, view.camera, i, g); },
+      [&](std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn) {
+        raster_.for_ranges(n, fn);
+      });
+  ++iterations_;
+  std::size_t removed = 0;
+  if (s_.prune_every > 0 && iterations_ % s_.prune_every == 0) removed = prune(map);
+  if (pruned) *pruned = removed;
+  return terms;
+}
+
+std::size_t MapOptimizer::prune(GaussianMap& map) {
+  const auto keep = prune_keep_mask(map, PruneSettings{s_.prune_min_opacity, s_.prune_max_scale_m});
+  adam_.compact(keep);
+  return map.compact(keep);
+}
+
+double MapOptimizer::bytes_per_gaussian(const GaussianMap& map) const {
+  if (map.size() == 0) return 0.0;
+  auto cap = [](const GaussianMap& a) {
+    return (a.mean_w.capacity() + a.log_scale.capacity() + a.quat_wxyz.capacity() +
+            a.opacity_logit.capacity() + a.color_rgb.capacity()) *
+           sizeof(float);
+  };
+  const std::size_t bytes = cap(map) + adam_.bytes() + raster_.cache_bytes();
+  return static_cast<double>(bytes) / static_cast<double>(map.size());
+}
+
+}  // namespace vigs::mapping

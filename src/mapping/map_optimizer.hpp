@@ -1,0 +1,63 @@
+#pragma once
+// One optimisation iteration of the map against one posed RGB-D view: project, render, loss
+// (L1 + SSIM + depth), backward, Adam; pruning of transparent and oversized Gaussians every N
+// iterations. Gradients go straight from the rasterizer into Adam per Gaussian (no gradient copy
+// of the map). Memory per Gaussian (parameters, Adam moments, rasterizer caches including the
+// per-thread gradient buffers and tile lists) is reported by bytes_per_gaussian().
+#include <cstddef>
+#include <vector>
+
+#include "core/config/mapping_settings.hpp"
+#include "mapping/adam.hpp"
+#include "mapping/loss.hpp"
+#include "mapping/rasterizer.hpp"
+
+namespace vigs::mapping {
+
+/// A training view: camera, colour (3 per pixel, [0, 1]) and depth (metres, 0 = missing).
+struct TrainingView {
+  RenderCamera camera;
+  const float* rgb = nullptr;
+  const float* depth_m = nullptr;
+};
+
+struct PruneSettings {
+  double min_opacity = 0.005;
+  double max_scale_m = 0.5;
+};
+
+/// Marks Gaussians to keep: opacity >= min_opacity and every standard deviation <= max_scale_m.
+std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s);
+
+class MapOptimizer {
+ public:
+  MapOptimizer(const config::MappingSettings& s, WorkerPool* pool);
+
+  /// One iteration; prunes (and returns the count in `pruned`) every prune_every iterations.
+  LossTerms<float> iterate(GaussianMap& map, const TrainingView& view,
+                           std::size_t* pruned = nullptr);
+
+  /// Removes Gaussians from the map and the optimiser state; returns the count removed.
+  std::size_t prune(GaussianMap& map);
+
+  /// Bytes per Gaussian held for `map` (parameters + gradients + moments + caches).
+  [[nodiscard]] double bytes_per_gaussian(const GaussianMap& map) const;
+
+  Rasterizer<float>& rasterizer() { return raster_; }
+  Adam& adam() { return adam_; }
+  [[nodiscard]] long iterations() const { return iterations_; }
+  [[nodiscard]] const RenderResult<float>& last_render() const { return render_; }
+
+ private:
+  config::MappingSettings s_;
+  Rasterizer<float> raster_;
+  PhotometricLoss<float> loss_;
+  Adam adam_;
+  RenderResult<float> render_;
+  std::vector<float> v_color_, v_depth_;
+  long iterations_ = 0;
+};
+
+AdamSettings adam_settings_from(const config::MappingSettings& s);
+
+}  // namespace vigs::mapping

@@ -1,0 +1,75 @@
+#include "mapping/mapper.hpp"
+
+#include <algorithm>
+
+#include "rt/queue_policy.hpp"
+
+namespace vigs::mapping {
+
+Mapper::Mapper(const config::MappingSettings& s, KeyframeRing& ring, WorkerPool* pool,
+               std::size_t max_pending, std::size_t max_keyframes)
+    : s_(s),
+      ring_(ring),
+      max_pending_(max_pending),
+      max_keyframes_(std::max<std::size_t>(1, max_keyframes)),
+      inserter_(InsertSettings{s.insert_voxel_m, s.insert_opacity, s.min_scale_m}),
+      optimizer_(s, pool) {}
+
+std::size_t Mapper::next_view() {
+  if (newest_pending_) {
+    newest_pending_ = false;
+    round_.clear();  // a new round starts after the newest keyframe
+    return keyframes_.size() - 1;
+  }
+  if (round_.empty()) {
+    const std::size_t n = keyframes_.size();
+    const std::size_t window =
+        std::min<std::size_t>(n, static_cast<std::size_t>(s_.window_keyframes));
+    // trained back to front: the window newest first, then random older keyframes
+    const std::size_t older = n - window;
+    for (int r = 0; r < s_.random_keyframes && older > 0; ++r)
+      round_.push_back(std::uniform_int_distribution<std::size_t>(0, older - 1)(rng_));
+    for (std::size_t k = 0; k < window; ++k) round_.push_back(older + k);
+  }
+  const std::size_t idx = round_.back();
+  round_.pop_back();
+  return idx;
+}
+
+void Mapper::tick() {
+  // keyframes beyond the bound are skipped (oldest first) and counted
+  rt::trim_oldest(ring_, max_pending_, skipped_);
+  while (std::unique_ptr<MapperKeyframe>* front = ring_.front()) {
+    std::unique_ptr<MapperKeyframe> kf = std::move(*front);
+    ring_.pop();
+    if (!kf) continue;
+    if (kf->end_of_stream) {
+      eos_.store(true);
+      continue;
+    }
+    inserter_.insert(map_, kf->gaussians);
+    kf->gaussians = KeyframeGaussians{};  // points are in the map now; keep only the view
+    if (keyframes_.size() == max_keyframes_) keyframes_.erase(keyframes_.begin());
+    keyframes_.push_back(std::move(kf));
+    round_.clear();
+    newest_pending_ = true;
+    ingested_.add(1);
+  }
+  if (!keyframes_.empty()) {
+    for (int it = 0; it < s_.iterations_per_tick; ++it) {
+      const MapperKeyframe& kf = *keyframes_[next_view()];
+      const TrainingView view{kf.camera, kf.rgb.data(),
+                              kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
+      std::size_t pruned = 0;
+      const auto terms = optimizer_.iterate(map_, view, &pruned);
+      if (pruned > 0) inserter_.rebuild(map_);
+      last_id_.store(kf.id);
+      last_loss_.store(terms.total);
+      iterations_.add(1);
+    }
+  }
+  if (snapshot_requested_.exchange(false, std::memory_order_acq_rel))
+    snapshot_.store(std::make_shared<const GaussianMap>(map_), std::memory_order_release);
+}
+
+}  // namespace vigs::mapping

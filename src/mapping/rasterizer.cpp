@@ -1,0 +1,283 @@
+#include "mapping/rasterizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+
+#include "mapping/projection.hpp"
+#include "mapping/raster_simd.hpp"
+
+namespace vigs::mapping {
+
+namespace {
+constexpr int kGradPerGaussian = 10;  // mean2d 2, conic 3, opacity, colour 3, depth
+
+/// [begin, end) of a static split of n items into `parts`.
+inline void split(std::size_t n, int parts, int index, std::size_t& begin, std::size_t& end) {
+  const std::size_t p = static_cast<std::size_t>(parts);
+  const std::size_t i = static_cast<std::size_t>(index);
+  begin = n * i / p;
+  end = n * (i + 1) / p;
+}
+}  // namespace
+
+template <class T>
+Rasterizer<T>::Rasterizer(RasterSettings settings, WorkerPool* pool)
+    : settings_(settings), pool_(pool) {
+  const auto n = static_cast<std::size_t>(threads());
+  gather_.resize(n);
+  tile_grad_.resize(n);
+  thread_grad_.resize(n);
+}
+
+template <class T>
+void Rasterizer<T>::run(const std::function<void(int)>& fn, int) {
+  if (pool_) {
+    pool_->run(fn);
+  } else {
+    fn(0);
+  }
+}
+
+template <class T>
+void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& cam) {
+  const std::size_t n = g.size();
+  proj_.mean2d.resize(2 * n);
+  proj_.conic.resize(3 * n);
+  proj_.depth.resize(n);
+  proj_.opacity.resize(n);
+  proj_.radius.resize(n);
+  const T near_m = T(settings_.near_m), eps = T(settings_.eps2d_px2);
+  const int nt = threads();
+  run([&](int t) {
+    std::size_t b, e;
+    split(n, nt, t, b, e);
+    ProjectedGaussian<T> pg;
+    for (std::size_t i = b; i < e; ++i) {
+      project_gaussian(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i], near_m, eps,
+                       pg);
+      proj_.radius[i] = pg.radius;
+      if (pg.radius == 0) continue;
+      proj_.mean2d[2 * i] = pg.mean2d[0];
+      proj_.mean2d[2 * i + 1] = pg.mean2d[1];
+      for (int k = 0; k < 3; ++k) proj_.conic[3 * i + k] = pg.conic[k];
+      proj_.depth[i] = pg.depth;
+      proj_.opacity[i] = sigmoid(g.opacity_logit[i]);
+    }
+  });
+}
+
+template <class T>
+void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
+  tiles_x_ = (cam.width_px + kTilePx - 1) / kTilePx;
+  tiles_y_ = (cam.height_px + kTilePx - 1) / kTilePx;
+  const int n_tiles = tiles_x_ * tiles_y_;
+  const std::size_t n = proj_.radius.size();
+  tile_offsets_.assign(static_cast<std::size_t>(n_tiles) + 1, 0);
+  auto rect_of = [&](std::size_t i, int& x0, int& y0, int& x1, int& y1) {
+    const T r = T(proj_.radius[i]);
+    const T u = proj_.mean2d[2 * i], v = proj_.mean2d[2 * i + 1];
+    x0 = std::max(0, static_cast<int>(std::floor((u - r) / T(kTilePx))));
+    y0 = std::max(0, static_cast<int>(std::floor((v - r) / T(kTilePx))));
+    x1 = std::min(tiles_x_ - 1, static_cast<int>(std::floor((u + r) / T(kTilePx))));
+    y1 = std::min(tiles_y_ - 1, static_cast<int>(std::floor((v + r) / T(kTilePx))));
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (proj_.radius[i] == 0) continue;
+    int x0, y0, x1, y1;
+    rect_of(i, x0, y0, x1, y1);
+    for (int ty = y0; ty <= y1; ++ty)
+      for (int tx = x0; tx <= x1; ++tx)
+        ++tile_offsets_[static_cast<std::size_t>(ty * tiles_x_ + tx) + 1];
+  }
+  for (int t = 0; t < n_tiles; ++t) tile_offsets_[t + 1] += tile_offsets_[t];
+  tile_ids_.resize(static_cast<std::size_t>(tile_offsets_[n_tiles]));
+  tile_cursor_.assign(tile_offsets_.begin(), tile_offsets_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (proj_.radius[i] == 0) continue;
+    int x0, y0, x1, y1;
+    rect_of(i, x0, y0, x1, y1);
+    for (int ty = y0; ty <= y1; ++ty)
+      for (int tx = x0; tx <= x1; ++tx)
+        tile_ids_[static_cast<std::size_t>(tile_cursor_[ty * tiles_x_ + tx]++)] =
+            static_cast<int>(i);
+  }
+  const int nt = threads();
+  run([&](int t) {
+    for (int tile = t; tile < n_tiles; tile += nt) {
+      auto* b = tile_ids_.data() + tile_offsets_[tile];
+      auto* e = tile_ids_.data() + tile_offsets_[tile + 1];
+      std::sort(b, e, [&](int a, int c) {
+        const T da = proj_.depth[a], dc = proj_.depth[c];
+        return da < dc || (da == dc && a < c);
+      });
+    }
+  });
+}
+
+template <class T>
+void Rasterizer<T>::gather_tile(int tile, std::vector<TileGaussian<T>>& buf,
+                                const GaussianParams<T>& g) const {
+  const int b = tile_offsets_[tile], e = tile_offsets_[tile + 1];
+  buf.resize(static_cast<std::size_t>(e - b));
+  for (int k = b; k < e; ++k) {
+    const auto i = static_cast<std::size_t>(tile_ids_[k]);
+    TileGaussian<T>& tg = buf[static_cast<std::size_t>(k - b)];
+    tg.x = proj_.mean2d[2 * i];
+    tg.y = proj_.mean2d[2 * i + 1];
+    tg.ca = proj_.conic[3 * i];
+    tg.cb = proj_.conic[3 * i + 1];
+    tg.cc = proj_.conic[3 * i + 2];
+    tg.opacity = proj_.opacity[i];
+    tg.r = g.color_rgb[3 * i];
+    tg.g = g.color_rgb[3 * i + 1];
+    tg.b = g.color_rgb[3 * i + 2];
+    tg.z = proj_.depth[i];
+    tg.sigma_cut = sigma_cutoff(tg.opacity, settings_.min_alpha);
+  }
+}
+
+template <class T>
+void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
+                            RenderResult<T>& out) {
+  project_all(g, cam);
+  bin_tiles(cam);
+  const std::size_t n_px = static_cast<std::size_t>(cam.width_px) * cam.height_px;
+  out.width = cam.width_px;
+  out.height = cam.height_px;
+  out.color.resize(3 * n_px);
+  out.depth.resize(n_px);
+  out.final_T.resize(n_px);
+  out.n_contrib.resize(n_px);
+  PixelOutputs<T> po{cam.width_px, out.color.data(), out.depth.data(), out.final_T.data(),
+                     out.n_contrib.data()};
+  bool simd = false;
+  if constexpr (std::is_same_v<T, float>) simd = settings_.use_simd && avx2_kernel_available();
+  used_simd_ = simd;
+  const int nt = threads();
+  const int n_tiles = tiles_x_ * tiles_y_;
+  run([&](int t) {
+    auto& buf = gather_[static_cast<std::size_t>(t)];
+    for (int tile = t; tile < n_tiles; tile += nt) {
+      const int tx = tile % tiles_x_, ty = tile / tiles_x_;
+      const TileRect rect{tx * kTilePx, ty * kTilePx, std::min(cam.width_px, (tx + 1) * kTilePx),
+                          std::min(cam.height_px, (ty + 1) * kTilePx)};
+      gather_tile(tile, buf, g);
+      const int count = static_cast<int>(buf.size());
+      if constexpr (std::is_same_v<T, float>) {
+        if (simd) {
+          forward_tile_avx2(rect, buf.data(), count, settings_, po);
+          continue;
+        }
+      }
+      forward_tile_scalar(rect, buf.data(), count, settings_, po);
+    }
+  });
+}
+
+template <class T>
+void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const RenderCamera& cam,
+                                         const RenderResult<T>& out, const T* v_color,
+                                         const T* v_depth, const T* v_alpha) {
+  const std::size_t n = g.size();
+  const int nt = threads();
+  const int n_tiles = tiles_x_ * tiles_y_;
+  // Accumulated opacity is 1 - T_final: its gradient enters as dL/dalpha.
+  run([&](int t) {
+    auto& acc = thread_grad_[static_cast<std::size_t>(t)];
+    acc.assign(kGradPerGaussian * n, T(0));
+    auto& buf = gather_[static_cast<std::size_t>(t)];
+    auto& tg = tile_grad_[static_cast<std::size_t>(t)];
+    for (int tile = t; tile < n_tiles; tile += nt) {
+      const int tx = tile % tiles_x_, ty = tile / tiles_x_;
+      const TileRect rect{tx * kTilePx, ty * kTilePx, std::min(cam.width_px, (tx + 1) * kTilePx),
+                          std::min(cam.height_px, (ty + 1) * kTilePx)};
+      const int b = tile_offsets_[tile], e = tile_offsets_[tile + 1];
+      if (b == e) continue;
+      gather_tile(tile, buf, g);
+      tg.assign(static_cast<std::size_t>(e - b), TileGrad<T>{});
+      backward_tile_scalar(rect, buf.data(), settings_, out.width, out.final_T.data(),
+                           out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data());
+      for (int k = b; k < e; ++k) {
+        const TileGrad<T>& s = tg[static_cast<std::size_t>(k - b)];
+        T* a = &acc[kGradPerGaussian * static_cast<std::size_t>(tile_ids_[k])];
+        a[0] += s.x;
+        a[1] += s.y;
+        a[2] += s.ca;
+        a[3] += s.cb;
+        a[4] += s.cc;
+        a[5] += s.opacity;
+        a[6] += s.r;
+        a[7] += s.g;
+        a[8] += s.b;
+        a[9] += s.z;
+      }
+    }
+  });
+}
+
+template <class T>
+void Rasterizer<T>::gaussian_gradient(const GaussianParams<T>& g, const RenderCamera& cam,
+                                      std::size_t i, T out[kParamGrads]) const {
+  for (int k = 0; k < kParamGrads; ++k) out[k] = T(0);
+  if (proj_.radius[i] == 0) return;
+  T v[kGradPerGaussian] = {};
+  for (const auto& buf : thread_grad_) {
+    const T* a = &buf[kGradPerGaussian * i];
+    for (int k = 0; k < kGradPerGaussian; ++k) v[k] += a[k];
+  }
+  project_gaussian_vjp(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i],
+                       T(settings_.eps2d_px2), &v[0], &v[2], v[9], &out[0], &out[3], &out[6]);
+  const T op = proj_.opacity[i];
+  out[10] = v[5] * op * (T(1) - op);
+  for (int k = 0; k < 3; ++k) out[11 + k] = v[6 + k];
+}
+
+template <class T>
+void Rasterizer<T>::for_ranges(std::size_t n,
+                               const std::function<void(std::size_t, std::size_t)>& fn) {
+  const int nt = threads();
+  run([&](int t) {
+    std::size_t b, e;
+    split(n, nt, t, b, e);
+    fn(b, e);
+  });
+}
+
+template <class T>
+void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam,
+                             const RenderResult<T>& out, const T* v_color, const T* v_depth,
+                             const T* v_alpha, GaussianParams<T>& grad) {
+  accumulate_gradients(g, cam, out, v_color, v_depth, v_alpha);
+  const std::size_t n = g.size();
+  grad.assign_zero(n);
+  for_ranges(n, [&](std::size_t b, std::size_t e) {
+    T v[kParamGrads];
+    for (std::size_t i = b; i < e; ++i) {
+      gaussian_gradient(g, cam, i, v);
+      for (int k = 0; k < 3; ++k) {
+        grad.mean_w[3 * i + k] = v[k];
+        grad.log_scale[3 * i + k] = v[3 + k];
+        grad.color_rgb[3 * i + k] = v[11 + k];
+      }
+      for (int k = 0; k < 4; ++k) grad.quat_wxyz[4 * i + k] = v[6 + k];
+      grad.opacity_logit[i] = v[10];
+    }
+  });
+}
+
+template <class T>
+std::size_t Rasterizer<T>::cache_bytes() const {
+  std::size_t bytes = (proj_.mean2d.capacity() + proj_.conic.capacity() + proj_.depth.capacity() +
+                       proj_.opacity.capacity()) *
+                          sizeof(T) +
+                      proj_.radius.capacity() * sizeof(int);
+  bytes += tile_ids_.capacity() * sizeof(int);
+  for (const auto& v : thread_grad_) bytes += v.capacity() * sizeof(T);
+  return bytes;
+}
+
+template class Rasterizer<float>;
+template class Rasterizer<double>;
+
+}  // namespace vigs::mapping

@@ -1,0 +1,101 @@
+#pragma once
+// Differentiable tiled splatting on the CPU: project every Gaussian, bin them into 16x16 tiles
+// in depth order, blend front to back (colour, depth = sum z alpha T, accumulated opacity), and
+// in backward traverse each pixel's contributors in reverse. Work is split over tiles across a
+// WorkerPool with a static schedule; backward gradients go to per-thread buffers that are summed
+// in a fixed order at the end (no atomics), so results are bit-identical run to run.
+#include <cstddef>
+#include <vector>
+
+#include "mapping/gaussian_map.hpp"
+#include "mapping/raster_settings.hpp"
+#include "mapping/render_camera.hpp"
+#include "mapping/tile_kernels.hpp"
+#include "mapping/worker_pool.hpp"
+
+namespace vigs::mapping {
+
+template <class T>
+struct RenderResult {
+  int width = 0;
+  int height = 0;
+  std::vector<T> color;        ///< 3 per pixel, RGB
+  std::vector<T> depth;        ///< metres, sum z_i alpha_i T_i (not normalised)
+  std::vector<T> final_T;      ///< transmittance left; accumulated opacity = 1 - final_T
+  std::vector<int> n_contrib;  ///< per pixel, last contributor (+1) in its tile's list
+  [[nodiscard]] T alpha(int p) const { return T(1) - final_T[static_cast<std::size_t>(p)]; }
+};
+
+/// Per-Gaussian projection cache of the last forward pass.
+template <class T>
+struct Projection {
+  std::vector<T> mean2d;    ///< 2 per Gaussian
+  std::vector<T> conic;     ///< 3 per Gaussian
+  std::vector<T> depth;     ///< 1 per Gaussian
+  std::vector<T> opacity;   ///< sigmoid(logit)
+  std::vector<int> radius;  ///< 0 = culled
+};
+
+template <class T>
+class Rasterizer {
+ public:
+  /// `pool` may be null (single thread); it must outlive the rasterizer.
+  explicit Rasterizer(RasterSettings settings = {}, WorkerPool* pool = nullptr);
+
+  [[nodiscard]] const RasterSettings& settings() const { return settings_; }
+  RasterSettings& settings() { return settings_; }
+
+  void forward(const GaussianParams<T>& g, const RenderCamera& cam, RenderResult<T>& out);
+
+  /// Gradients of a loss with respect to every parameter, given dL/d(colour), dL/d(depth) and
+  /// dL/d(accumulated opacity) per pixel (depth and alpha may be null). Must follow forward()
+  /// with the same map and camera. `grad` is overwritten (resized to the map).
+  void backward(const GaussianParams<T>& g, const RenderCamera& cam, const RenderResult<T>& out,
+                const T* v_color, const T* v_depth, const T* v_alpha, GaussianParams<T>& grad);
+
+  /// The two halves of backward() for fused optimisers. accumulate_gradients() runs the
+  /// per-pixel reverse pass; gaussian_gradient() then gives Gaussian i's parameter gradients in
+  /// the order mean (3), log-scale (3), quaternion (4), opacity logit, colour (3); zeros when it
+  /// was culled. gaussian_gradient() only reads, so threads may call it for different i.
+  static constexpr int kParamGrads = 14;
+  void accumulate_gradients(const GaussianParams<T>& g, const RenderCamera& cam,
+                            const RenderResult<T>& out, const T* v_color, const T* v_depth,
+                            const T* v_alpha);
+  void gaussian_gradient(const GaussianParams<T>& g, const RenderCamera& cam, std::size_t i,
+                         T out[kParamGrads]) const;
+
+  /// Runs fn(begin, end) over a static split of [0, n) on the rasterizer's threads.
+  void for_ranges(std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn);
+
+  [[nodiscard]] const Projection<T>& projection() const { return proj_; }
+  [[nodiscard]] std::size_t tile_pairs() const { return tile_ids_.size(); }
+  /// Bytes held per Gaussian by this rasterizer's caches (projection, per-thread gradient
+  /// buffers, tile lists), from the current capacities.
+  [[nodiscard]] std::size_t cache_bytes() const;
+  /// True when the last forward used the AVX2 kernel.
+  [[nodiscard]] bool used_simd() const { return used_simd_; }
+
+ private:
+  void project_all(const GaussianParams<T>& g, const RenderCamera& cam);
+  void bin_tiles(const RenderCamera& cam);
+  void gather_tile(int tile, std::vector<TileGaussian<T>>& buf, const GaussianParams<T>& g) const;
+  void run(const std::function<void(int)>& fn, int threads_hint = 0);
+  [[nodiscard]] int threads() const { return pool_ ? pool_->threads() : 1; }
+
+  RasterSettings settings_;
+  WorkerPool* pool_;
+  Projection<T> proj_;
+  int tiles_x_ = 0, tiles_y_ = 0;
+  std::vector<int> tile_offsets_;  ///< tiles + 1
+  std::vector<int> tile_ids_;      ///< Gaussian ids per tile, near to far
+  std::vector<int> tile_cursor_;
+  std::vector<std::vector<TileGaussian<T>>> gather_;  ///< per thread
+  std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread
+  std::vector<std::vector<T>> thread_grad_;           ///< per thread, 10 per Gaussian
+  bool used_simd_ = false;
+};
+
+extern template class Rasterizer<float>;
+extern template class Rasterizer<double>;
+
+}  // namespace vigs::mapping

@@ -1,0 +1,25 @@
+#pragma once
+// Keyframe points from a registered RGB-D image for tools that run the mapping back end alone
+// (`vigs map`, benchmarks): every `stride`-th pixel with valid depth is back-projected, and its
+// covariance is the sample covariance of the 3x3 grid of back-projected neighbours `stride`
+// pixels apart (an image-grid stand-in for the tracker's kNN covariances), skipping neighbours
+// across depth discontinuities.
+#include "core/types/pinhole_camera.hpp"
+#include "io/image.hpp"
+#include "mapping/keyframe_gaussians.hpp"
+
+namespace vigs::mapping {
+
+struct RgbdSampling {
+  int stride_px = 4;
+  double min_depth_m = 0.1;
+  double max_depth_m = 10.0;
+  double max_relative_jump = 0.1;  ///< neighbours with |z - z0| > this * z0 are ignored
+};
+
+/// rgb: 3 channels, same size as depth (metres, 0 = invalid).
+KeyframeGaussians keyframe_from_rgbd(const PinholeCamera& cam, const io::ImageU8& rgb,
+                                     const io::ImageF32& depth_m, const Eigen::Isometry3d& T_w_c,
+                                     const RgbdSampling& s = {});
+
+}  // namespace vigs::mapping

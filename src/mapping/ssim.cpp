@@ -1,0 +1,192 @@
+#include "mapping/ssim.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace vigs::mapping {
+
+SsimWindow parse_ssim_window(const std::string& name) {
+  if (name == "gaussian11") return SsimWindow::kGaussian11;
+  if (name == "uniform7") return SsimWindow::kUniform7;
+  throw std::invalid_argument("unknown SSIM window '" + name +
+                              "' (expected gaussian11 or uniform7)");
+}
+
+std::vector<double> ssim_window_1d(SsimWindow w) {
+  if (w == SsimWindow::kUniform7) return std::vector<double>(7, 1.0 / 7.0);
+  std::vector<double> g(11);
+  double sum = 0;
+  for (int i = 0; i < 11; ++i) {
+    const double d = i - 5;
+    g[static_cast<std::size_t>(i)] = std::exp(-d * d / (2.0 * 1.5 * 1.5));
+    sum += g[static_cast<std::size_t>(i)];
+  }
+  for (auto& v : g) v /= sum;
+  return g;
+}
+
+template <class T>
+Ssim<T>::Ssim(SsimOptions options, WorkerPool* pool) : opt_(options), pool_(pool) {
+  const auto w = ssim_window_1d(options.window);
+  win_.assign(w.begin(), w.end());
+}
+
+template <class T>
+void Ssim<T>::for_rows(int rows, const std::function<void(int, int, int)>& fn) {
+  const int nt = pool_ ? pool_->threads() : 1;
+  auto body = [&](int t) { fn(t, rows * t / nt, rows * (t + 1) / nt); };
+  if (pool_) {
+    pool_->run(body);
+  } else {
+    body(0);
+  }
+}
+
+template <class T>
+T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask,
+                    T* grad_x) {
+  const int K = static_cast<int>(win_.size());
+  if (width < K || height < K) throw std::invalid_argument("SSIM: image smaller than the window");
+  const int wv = width - K + 1, hv = height - K + 1, half = K / 2;
+  const std::size_t w = static_cast<std::size_t>(width);
+  const std::size_t np = w * static_cast<std::size_t>(height);
+  const std::size_t nh = static_cast<std::size_t>(height) * static_cast<std::size_t>(wv);
+  const std::size_t nv = static_cast<std::size_t>(wv) * static_cast<std::size_t>(hv);
+  const T L = T(opt_.data_range);
+  const T C1 = (T(0.01) * L) * (T(0.01) * L), C2 = (T(0.03) * L) * (T(0.03) * L);
+  const T cn = opt_.sample_covariance ? T(K * K) / T(K * K - 1) : T(1);
+  auto centre_on = [&](int yy, int xx) {
+    return !mask ||
+           mask[static_cast<std::size_t>(yy + half) * w + static_cast<std::size_t>(xx + half)] >
+               T(0);
+  };
+  std::size_t n_valid = 0;
+  for (int yy = 0; yy < hv; ++yy)
+    for (int xx = 0; xx < wv; ++xx) n_valid += centre_on(yy, xx) ? 1 : 0;
+  if (grad_x)
+    for (std::size_t i = 0; i < np * static_cast<std::size_t>(channels); ++i) grad_x[i] = 0;
+  if (n_valid == 0) return T(1);
+  const T inv_n = T(1) / (T(n_valid) * T(channels));
+  const int nt = pool_ ? pool_->threads() : 1;
+  tmp_.resize(5 * nh);
+  maps_.resize(5 * nv);
+  if (grad_x) g_.resize(3 * nv);
+  rows_.resize(static_cast<std::size_t>(nt) * 5 * w);
+  partial_.assign(static_cast<std::size_t>(nt) * static_cast<std::size_t>(channels), 0.0);
+  const T* win = win_.data();
+  const std::size_t cs = static_cast<std::size_t>(channels);
+  for (int c = 0; c < channels; ++c) {
+    // horizontal pass of x, y, xx, yy, xy: deinterleave a row into 5 planes, then filter each
+    // plane with the tap loop outside so the inner loop is contiguous: tmp (5 x h x wv)
+    for_rows(height, [&](int t, int r0, int r1) {
+      T* rowbuf = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
+      for (int r = r0; r < r1; ++r) {
+        const T* xr = x + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
+        const T* yr = y + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
+        for (std::size_t q = 0; q < w; ++q) {
+          const T a = xr[q * cs], b = yr[q * cs];
+          rowbuf[q] = a;
+          rowbuf[w + q] = b;
+          rowbuf[2 * w + q] = a * a;
+          rowbuf[3 * w + q] = b * b;
+          rowbuf[4 * w + q] = a * b;
+        }
+        for (int m = 0; m < 5; ++m) {
+          T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
+                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+          const T* src = rowbuf + static_cast<std::size_t>(m) * w;
+          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
+          for (int k = 0; k < K; ++k) {
+            const T wk = win[k];
+            const T* sk = src + k;
+            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * sk[xx];
+          }
+        }
+      }
+    });
+    // vertical pass, then the SSIM map and its partial derivatives
+    for_rows(hv, [&](int t, int r0, int r1) {
+      double sum = 0;
+      for (int r = r0; r < r1; ++r) {
+        for (int m = 0; m < 5; ++m) {
+          T* o = maps_.data() + static_cast<std::size_t>(m) * nv +
+                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+          const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh;
+          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
+          for (int k = 0; k < K; ++k) {
+            const T* s = src + static_cast<std::size_t>(r + k) * static_cast<std::size_t>(wv);
+            const T wk = win[k];
+            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * s[xx];
+          }
+        }
+        for (int xx = 0; xx < wv; ++xx) {
+          const std::size_t p = static_cast<std::size_t>(r) * static_cast<std::size_t>(wv) +
+                                static_cast<std::size_t>(xx);
+          const bool on = centre_on(r, xx);
+          const T ux = maps_[p], uy = maps_[nv + p];
+          const T vx = cn * (maps_[2 * nv + p] - ux * ux), vy = cn * (maps_[3 * nv + p] - uy * uy);
+          const T vxy = cn * (maps_[4 * nv + p] - ux * uy);
+          const T N1 = T(2) * ux * uy + C1, N2 = T(2) * vxy + C2;
+          const T D1 = ux * ux + uy * uy + C1, D2 = vx + vy + C2;
+          const T S = (N1 * N2) / (D1 * D2);
+          if (on) sum += static_cast<double>(S);
+          if (grad_x) {
+            const T wgt = on ? inv_n : T(0);
+            g_[p] = wgt * S *
+                    (T(2) * uy / N1 - T(2) * cn * uy / N2 - T(2) * ux / D1 + T(2) * cn * ux / D2);
+            g_[nv + p] = wgt * (-S * cn / D2);
+            g_[2 * nv + p] = wgt * (S * T(2) * cn / N2);
+          }
+        }
+      }
+      partial_[static_cast<std::size_t>(t) * cs + static_cast<std::size_t>(c)] = sum;
+    });
+    if (!grad_x) continue;
+    // transposed filters as gathers: vertical into tmp (3 x h x wv), then horizontal per row;
+    // dL/dx_q = (W^T g_mu)_q + 2 x_q (W^T g_xx)_q + y_q (W^T g_xy)_q
+    for_rows(height, [&](int t, int r0, int r1) {
+      for (int r = r0; r < r1; ++r) {
+        for (int m = 0; m < 3; ++m) {
+          T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
+                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
+          for (int k = 0; k < K; ++k) {
+            const int src_row = r - k;
+            if (src_row < 0 || src_row >= hv) continue;
+            const T* s = g_.data() + static_cast<std::size_t>(m) * nv +
+                         static_cast<std::size_t>(src_row) * static_cast<std::size_t>(wv);
+            const T wk = win[k];
+            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * s[xx];
+          }
+        }
+        T* back = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
+        for (int m = 0; m < 3; ++m) {
+          const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh +
+                         static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+          T* o = back + static_cast<std::size_t>(m) * w;
+          for (std::size_t q = 0; q < w; ++q) o[q] = 0;
+          for (int k = 0; k < K; ++k) {
+            const T wk = win[k];
+            T* ok = o + k;
+            for (int xx = 0; xx < wv; ++xx) ok[xx] += wk * src[xx];
+          }
+        }
+        for (std::size_t q = 0; q < w; ++q) {
+          const std::size_t i =
+              (static_cast<std::size_t>(r) * w + q) * cs + static_cast<std::size_t>(c);
+          grad_x[i] = back[q] + T(2) * x[i] * back[w + q] + y[i] * back[2 * w + q];
+        }
+      }
+    });
+  }
+  double total = 0;
+  for (int c = 0; c < channels; ++c)
+    for (int t = 0; t < nt; ++t)
+      total += partial_[static_cast<std::size_t>(t) * cs + static_cast<std::size_t>(c)];
+  return T(total / (static_cast<double>(n_valid) * channels));
+}
+
+template class Ssim<float>;
+template class Ssim<double>;
+
+}  // namespace vigs::mapping

@@ -1,0 +1,54 @@
+#pragma once
+// Structural similarity over valid windows (the window always lies inside the image) with a
+// separable window, and its gradient written out analytically. Valid windows make the three
+// published conventions the same computation: scikit-image's 7x7 uniform window with a 3-pixel
+// crop (sample covariance), its 11x11 Gaussian with a 5-pixel crop (population covariance) and
+// pytorch-msssim's valid 11x11 Gaussian (sigma 1.5).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mapping/worker_pool.hpp"
+
+namespace vigs::mapping {
+
+enum class SsimWindow { kGaussian11, kUniform7 };
+
+/// Parses "gaussian11" or "uniform7"; throws std::invalid_argument otherwise.
+SsimWindow parse_ssim_window(const std::string& name);
+
+struct SsimOptions {
+  SsimWindow window = SsimWindow::kGaussian11;
+  bool sample_covariance = false;  ///< N/(N-1) correction (scikit-image's default)
+  double data_range = 1.0;         ///< L: 1 for [0, 1] images, 255 for 8-bit values
+};
+
+/// The normalised 1D window (11 taps, sigma 1.5; or 7 uniform taps).
+std::vector<double> ssim_window_1d(SsimWindow w);
+
+/// SSIM of two interleaved images (channels per pixel) and optionally its gradient with respect
+/// to `x`. `mask` (one per pixel, may be null) excludes windows whose centre pixel is 0. The
+/// result is the mean over valid windows and channels. Scratch buffers are kept between calls.
+template <class T>
+class Ssim {
+ public:
+  /// `pool` (may be null) splits rows across threads; it must outlive this object.
+  explicit Ssim(SsimOptions options = {}, WorkerPool* pool = nullptr);
+
+  /// Returns mean SSIM; when grad_x is not null it receives d(mean SSIM)/dx (w*h*channels).
+  T evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask, T* grad_x);
+
+ private:
+  void for_rows(int rows, const std::function<void(int, int, int)>& fn);
+
+  SsimOptions opt_;
+  WorkerPool* pool_;
+  std::vector<T> win_;
+  std::vector<T> tmp_, maps_, g_, rows_;
+  std::vector<double> partial_;
+};
+
+extern template class Ssim<float>;
+extern template class Ssim<double>;
+
+}  // namespace vigs::mapping

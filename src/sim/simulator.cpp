@@ -1,0 +1,113 @@
+#include "sim/simulator.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "sim/floor_plan.hpp"
+
+namespace vigs::sim {
+namespace {
+
+RenderSettings render_settings(const config::RobotConfig& c) {
+  RenderSettings r;
+  r.min_depth_m = static_cast<float>(c.camera.min_depth_m);
+  r.max_depth_m = static_cast<float>(c.camera.max_depth_m);
+  r.depth_noise_base_m = static_cast<float>(c.sim.depth_noise_base_m);
+  r.depth_noise_quadratic_per_m = static_cast<float>(c.sim.depth_noise_quadratic_per_m);
+  r.hole_cos = static_cast<float>(c.sim.hole_incidence_cos);
+  r.dropout_cos = static_cast<float>(c.sim.dropout_incidence_cos);
+  r.rgb_noise_sigma = static_cast<float>(c.sim.rgb_noise_sigma);
+  r.gray = c.sim.gray;
+  r.threads = c.sim.render_threads;
+  return r;
+}
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+geometry::Pose body_from_camera(const config::ExtrinsicsSettings& e) {
+  geometry::Pose T = geometry::Pose::Identity();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) T.linear()(i, j) = e.R_b_c[static_cast<std::size_t>(i * 3 + j)];
+  }
+  T.translation() = Eigen::Vector3d(e.t_b_c_m[0], e.t_b_c_m[1], e.t_b_c_m[2]);
+  return T;
+}
+
+Simulator::Simulator(const config::RobotConfig& cfg)
+    : cfg_(cfg),
+      scene_(make_preset(cfg.sim.preset, static_cast<std::uint64_t>(cfg.sim.seed))),
+      camera_(PinholeCamera::from_settings(cfg.camera)),
+      T_b_c_(body_from_camera(cfg.extrinsics)) {
+  TrajectoryParams tp;
+  tp.spacing_m = cfg.sim.speed_mps * tp.knot_interval_s;
+  tp.height_m = cfg.sim.camera_height_m;
+  trajectory_ = std::make_unique<SplineTrajectory>(scene_.route, tp);
+  walkers_ = make_walkers(scene_, cfg.sim.humans, static_cast<std::uint64_t>(cfg.sim.seed));
+  renderer_ = std::make_unique<Renderer>(scene_, camera_, render_settings(cfg));
+  duration_s_ = cfg.sim.seconds > 0.0 ? std::min(cfg.sim.seconds, trajectory_->duration_s())
+                                      : trajectory_->duration_s();
+}
+
+geometry::Pose Simulator::body_pose(double t_s) const {
+  const BodyState st = trajectory_->state(t_s);
+  geometry::Pose T = geometry::Pose::Identity();
+  T.linear() = st.R_w_b;
+  T.translation() = st.p_w_m;
+  return T;
+}
+
+void Simulator::render_at(double t_s, std::uint64_t index, RgbdFrame& out) const {
+  const PeopleSnapshot people(walkers_, t_s);
+  renderer_->render(camera_pose(t_s), people,
+                    hash3(static_cast<std::uint64_t>(cfg_.sim.seed), 0xF4A3E, index), out);
+}
+
+SimStats Simulator::run(SimSink& sink, const std::function<void(double, double)>& progress) {
+  const auto t_start = Clock::now();
+  SimStats stats;
+  stats.sequence_s = duration_s_;
+  const auto& ctrl = trajectory_->control_points();
+  for (std::size_t i = 1; i < ctrl.size(); ++i)
+    stats.route_length_m += (ctrl[i] - ctrl[i - 1]).norm();
+
+  ImuSynthesizer imu(cfg_.imu, static_cast<std::uint64_t>(cfg_.sim.seed));
+  const auto imu_period_ns = static_cast<std::int64_t>(std::llround(1e9 / cfg_.imu.rate_hz));
+  const auto frame_period_ns = static_cast<std::int64_t>(std::llround(1e9 / cfg_.camera.rate_hz));
+  const auto end_ns = static_cast<std::int64_t>(std::llround(duration_s_ * 1e9));
+  std::int64_t next_imu_ns = 0, next_frame_ns = 0;
+  std::uint64_t frame_index = 0;
+  RgbdFrame frame;
+  while (next_imu_ns <= end_ns || next_frame_ns <= end_ns) {
+    if (next_imu_ns <= next_frame_ns && next_imu_ns <= end_ns) {
+      const double t = static_cast<double>(next_imu_ns) * 1e-9;
+      const BodyState st = trajectory_->state(t);
+      sink.imu(imu.measure(st, next_imu_ns));
+      geometry::Pose T_w_b = geometry::Pose::Identity();
+      T_w_b.linear() = st.R_w_b;
+      T_w_b.translation() = st.p_w_m;
+      sink.ground_truth(next_imu_ns, T_w_b);
+      ++stats.imu_samples;
+      next_imu_ns += imu_period_ns;
+      continue;
+    }
+    if (next_frame_ns > end_ns) break;
+    const double t = static_cast<double>(next_frame_ns) * 1e-9;
+    const auto t_render = Clock::now();
+    render_at(t, frame_index, frame);
+    stats.render_s += seconds_since(t_render);
+    sink.frame(next_frame_ns, camera_, frame);
+    ++stats.frames;
+    ++frame_index;
+    next_frame_ns += frame_period_ns;
+    if (progress) progress(t, duration_s_);
+  }
+  stats.wall_s = seconds_since(t_start);
+  return stats;
+}
+
+}  // namespace vigs::sim

@@ -1,0 +1,144 @@
+// The mapper task body: keyframe ingestion from its ring, the newest-first schedule, the
+// pending-keyframe bound, snapshots while it runs on a real rt::PeriodicTask.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <thread>
+
+#include "mapping/mapper.hpp"
+#include "rt/periodic_task.hpp"
+#include "test_scene.hpp"
+
+namespace vigs::mapping {
+namespace {
+
+constexpr int kW = 64, kH = 48;
+
+/// Keyframe `id` seen from the test camera shifted sideways, with the truth Gaussians (slightly
+/// perturbed) as its points and the truth render as its images.
+std::unique_ptr<MapperKeyframe> make_keyframe(const GaussianMap& truth, std::uint64_t id) {
+  auto kf = std::make_unique<MapperKeyframe>();
+  kf->id = id;
+  kf->camera = test::small_camera(kW, kH, 60.0);
+  kf->camera.t_c_w[0] += 0.03 * static_cast<double>(id);
+  Rasterizer<float> ras;
+  RenderResult<float> r;
+  ras.forward(truth, kf->camera, r);
+  kf->rgb = r.color;
+  kf->depth_m = r.depth;
+  Eigen::Matrix3d R_c_w;
+  for (int i = 0; i < 9; ++i) R_c_w(i / 3, i % 3) = kf->camera.R_c_w[i];
+  const Eigen::Vector3d t_c_w(kf->camera.t_c_w[0], kf->camera.t_c_w[1], kf->camera.t_c_w[2]);
+  kf->gaussians.T_w_c.linear() = R_c_w.transpose();
+  kf->gaussians.T_w_c.translation() = -R_c_w.transpose() * t_c_w;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const Eigen::Vector3d p_w(truth.mean_w[3 * i] + 0.01, truth.mean_w[3 * i + 1],
+                              truth.mean_w[3 * i + 2]);
+    const Eigen::Vector3d p_c = R_c_w * p_w + t_c_w;
+    kf->gaussians.points_c.push_back(p_c.cast<float>());
+    // 0.1 m standard deviation after the GS-ICP depth normalisation (divide by 2 z^1.5)
+    const double sd = 0.1 * std::max(1.0, 2.0 * std::pow(p_c.z(), 1.5));
+    kf->gaussians.covariances_c.push_back(Eigen::Matrix3f::Identity() *
+                                          static_cast<float>(sd * sd));
+    kf->gaussians.colors.emplace_back(truth.color_rgb[3 * i] * 0.8f + 0.1f,
+                                      truth.color_rgb[3 * i + 1] * 0.8f + 0.1f,
+                                      truth.color_rgb[3 * i + 2] * 0.8f + 0.1f);
+  }
+  return kf;
+}
+
+config::MappingSettings test_settings() {
+  config::MappingSettings s;
+  s.lr_mean = 1e-3;
+  s.lr_color = 0.02;
+  s.insert_voxel_m = 0.05;
+  s.insert_opacity = 0.3;
+  s.iterations_per_tick = 1;
+  s.window_keyframes = 2;
+  s.random_keyframes = 1;
+  return s;
+}
+
+TEST(MappingMapper, IngestsNewestFirstAndLowersTheLoss) {
+  const GaussianMap truth = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
+  KeyframeRing ring(8);
+  Mapper mapper(test_settings(), ring, nullptr);
+  mapper.tick();  // nothing yet
+  EXPECT_EQ(mapper.iterations(), 0u);
+  for (std::uint64_t id = 1; id <= 3; ++id) ASSERT_TRUE(ring.try_push(make_keyframe(truth, id)));
+  mapper.tick();
+  EXPECT_EQ(mapper.keyframes_ingested(), 3u);
+  EXPECT_EQ(mapper.last_trained_id(), 3u);  // newest first
+  const std::size_t inserted = mapper.map().size();
+  EXPECT_GT(inserted, 30u);
+  EXPECT_LE(inserted, truth.size());
+  // a revisit of the same place adds (almost) nothing: voxel occupancy
+  ASSERT_TRUE(ring.try_push(make_keyframe(truth, 4)));
+  mapper.tick();
+  EXPECT_EQ(mapper.last_trained_id(), 4u);
+  EXPECT_LT(mapper.map().size(), inserted + 5);
+  // then rounds: window (4, 3) newest first, then one random older keyframe
+  mapper.tick();
+  EXPECT_EQ(mapper.last_trained_id(), 4u);
+  mapper.tick();
+  EXPECT_EQ(mapper.last_trained_id(), 3u);
+  mapper.tick();
+  EXPECT_LE(mapper.last_trained_id(), 2u);
+  float first = 0, last = 0;
+  for (int t = 0; t < 150; ++t) {
+    mapper.tick();
+    if (t < 10) first += mapper.last_loss() / 10;
+    if (t >= 140) last += mapper.last_loss() / 10;
+  }
+  std::printf("mapper loss: first ticks %.4f, last ticks %.4f\n", first, last);
+  EXPECT_LT(last, 0.8f * first);
+  EXPECT_EQ(mapper.snapshot(), nullptr);
+  mapper.request_snapshot();
+  mapper.tick();
+  ASSERT_NE(mapper.snapshot(), nullptr);
+  EXPECT_EQ(mapper.snapshot()->size(), mapper.map().size());
+}
+
+TEST(MappingMapper, SkipsKeyframesBeyondThePendingBound) {
+  const GaussianMap truth = test::random_gaussians<float>(20, 3);
+  KeyframeRing ring(16);
+  Mapper mapper(test_settings(), ring, nullptr, /*max_pending=*/4);
+  for (std::uint64_t id = 1; id <= 7; ++id) ASSERT_TRUE(ring.try_push(make_keyframe(truth, id)));
+  auto eos = std::make_unique<MapperKeyframe>();
+  eos->end_of_stream = true;
+  ASSERT_TRUE(ring.try_push(std::move(eos)));
+  mapper.tick();
+  EXPECT_EQ(mapper.skipped_keyframes(), 4u);  // 8 queued, 4 kept: ids 5, 6, 7 and the marker
+  EXPECT_EQ(mapper.keyframes_ingested(), 3u);
+  EXPECT_TRUE(mapper.end_of_stream());
+  EXPECT_EQ(mapper.last_trained_id(), 7u);
+}
+
+TEST(MappingMapper, RunsOnAPeriodicTaskWhileSnapshotsAreTaken) {
+  const GaussianMap truth = test::random_gaussians<float>(40, 9);
+  KeyframeRing ring(8);
+  Mapper mapper(test_settings(), ring, nullptr);
+  rt::ThreadSpec spec = rt::thread_spec("mapper");
+  spec.period_ns = 5'000'000;  // 200 Hz for the test
+  rt::PeriodicTask task(spec, [&] { mapper.tick(); });
+  task.start();
+  for (std::uint64_t id = 1; id <= 3; ++id) {
+    while (!ring.try_push(make_keyframe(truth, id))) std::this_thread::yield();
+  }
+  std::size_t snapshots = 0;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(400);
+  while (std::chrono::steady_clock::now() < until) {
+    mapper.request_snapshot();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (auto snap = mapper.snapshot()) snapshots += snap->size() > 0 ? 1 : 0;
+  }
+  task.stop();
+  EXPECT_EQ(mapper.keyframes_ingested(), 3u);
+  EXPECT_GT(mapper.iterations(), 5u);
+  EXPECT_GT(snapshots, 0u);
+}
+
+}  // namespace
+}  // namespace vigs::mapping

@@ -1,0 +1,126 @@
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <map>
+
+#include "io/mcap/mcap_reader.hpp"
+#include "io/ros_msgs/camera_info.hpp"
+#include "io/ros_msgs/image.hpp"
+#include "io/ros_msgs/imu.hpp"
+#include "io/ros_msgs/pose_stamped.hpp"
+#include "io/ros_msgs/typed_io.hpp"
+#include "sim/mcap_sink.hpp"
+#include "sim/simulator.hpp"
+
+namespace vigs::sim {
+namespace {
+
+/// Collects what a sink receives.
+class MemorySink : public SimSink {
+ public:
+  void frame(std::int64_t t_ns, const PinholeCamera&, const RgbdFrame& f) override {
+    frame_t.push_back(t_ns);
+    last_depth = f.depth_m;
+  }
+  void imu(const ImuSample& s) override { imu_samples.push_back(s); }
+  void ground_truth(std::int64_t t_ns, const geometry::Pose& T) override {
+    gt_t.push_back(t_ns);
+    gt.push_back(T);
+  }
+  std::vector<std::int64_t> frame_t, gt_t;
+  std::vector<ImuSample> imu_samples;
+  std::vector<geometry::Pose> gt;
+  std::vector<float> last_depth;
+};
+
+config::RobotConfig one_second() {
+  config::RobotConfig cfg;
+  cfg.sim.preset = "apartment";
+  cfg.sim.humans = 12;
+  cfg.sim.seconds = 1.0;
+  return cfg;
+}
+
+TEST(Simulator, StreamsAtTheConfiguredRatesInTimeOrderAndDeterministically) {
+  Simulator sim(one_second());
+  MemorySink a, b;
+  const SimStats st = sim.run(a);
+  Simulator(one_second()).run(b);
+  EXPECT_EQ(st.frames, 21);  // 0, 50, ..., 1000 ms
+  EXPECT_EQ(st.imu_samples, 201);
+  ASSERT_EQ(a.frame_t.size(), 21u);
+  EXPECT_EQ(a.frame_t[1], 50'000'000);
+  EXPECT_EQ(a.imu_samples[1].t_ns, 5'000'000);
+  EXPECT_EQ(a.gt_t.size(), 201u);
+  for (std::size_t i = 0; i < a.imu_samples.size(); ++i) {
+    EXPECT_EQ(std::memcmp(&a.imu_samples[i], &b.imu_samples[i], sizeof(ImuSample)), 0);
+  }
+  EXPECT_EQ(a.last_depth, b.last_depth);
+  EXPECT_TRUE(a.gt[100].isApprox(sim.body_pose(0.5), 1e-12));
+}
+
+TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
+  const std::string path =
+      ::testing::TempDir() + "vigs_sim_test_" + std::to_string(getpid()) + ".mcap";
+  Simulator sim(one_second());
+  McapSinkOptions opt;
+  McapSink sink(path, opt);
+  MemorySink mem;
+  struct Tee : SimSink {
+    SimSink* x;
+    SimSink* y;
+    void frame(std::int64_t t, const PinholeCamera& c, const RgbdFrame& f) override {
+      x->frame(t, c, f), y->frame(t, c, f);
+    }
+    void imu(const ImuSample& s) override { x->imu(s), y->imu(s); }
+    void ground_truth(std::int64_t t, const geometry::Pose& T) override {
+      x->ground_truth(t, T), y->ground_truth(t, T);
+    }
+  } tee;
+  tee.x = &sink;
+  tee.y = &mem;
+  sim.run(tee);
+  sink.close();
+
+  io::mcap::McapReader reader(path);
+  std::map<std::string, int> count;
+  io::mcap::MessageView m;
+  io::ros_msgs::Image depth;
+  io::ros_msgs::CameraInfo info;
+  io::ros_msgs::PoseStamped pose;
+  io::ros_msgs::Imu imu;
+  while (reader.next(m)) {
+    const std::string topic = m.channel->topic;
+    ++count[topic];
+    bool ok = true;
+    if (topic == "/vigs/depth") ok = io::ros_msgs::decode_message(m, depth);
+    if (topic == "/vigs/camera_info") ok = io::ros_msgs::decode_message(m, info);
+    if (topic == "/vigs/ground_truth/body_pose") ok = io::ros_msgs::decode_message(m, pose);
+    if (topic == "/vigs/imu") ok = io::ros_msgs::decode_message(m, imu);
+    ASSERT_TRUE(ok) << topic;
+  }
+  EXPECT_TRUE(reader.issues().empty());
+  EXPECT_EQ(count["/vigs/rgb"], 21);
+  EXPECT_EQ(count["/vigs/depth"], 21);
+  EXPECT_EQ(count["/vigs/camera_info"], 21);
+  EXPECT_EQ(count["/vigs/imu"], 201);
+  EXPECT_EQ(count["/vigs/ground_truth/body_pose"], 201);
+  EXPECT_DOUBLE_EQ(info.k[0], 415.69219381653056);
+  EXPECT_DOUBLE_EQ(info.k[2], 360.0);
+  EXPECT_EQ(depth.encoding, "16UC1");
+  ASSERT_EQ(depth.data.size(), 720u * 480u * 2u);
+  // The last depth image is the rendered one in millimetres.
+  for (std::size_t i = 0; i < mem.last_depth.size(); i += 97) {
+    const int mm = depth.data[2 * i] | (depth.data[2 * i + 1] << 8);
+    EXPECT_NEAR(mm * 1e-3, mem.last_depth[i], 0.5e-3 + 1e-6);
+  }
+  EXPECT_EQ(pose.header.stamp.to_ns(), 1'000'000'000);
+  EXPECT_DOUBLE_EQ(pose.pose.position.x, mem.gt.back().translation().x());
+  EXPECT_DOUBLE_EQ(imu.angular_velocity.z, mem.imu_samples.back().gyro_rps[2]);
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace vigs::sim
