@@ -22,6 +22,7 @@ SerialImuDriverSettings serial_imu_settings(const config::ImuSettings& imu,
   s.baud = imu.baud;
   s.protocol = imu.protocol;
   s.realtime_thread = rt.realtime_priorities;
+  s.pin_cpu = rt.pin_cpus;
   s.stamper.nominal_rate_hz = imu.rate_hz;
   return s;
 }
@@ -47,10 +48,8 @@ void SerialImuDriver::start() {
   parser_->reset();
   stamper_.reset();
   rt::ThreadSpec spec = rt::thread_spec("imu_driver");
-  if (!settings_.realtime_thread) {
-    spec.sched_fifo_priority = 0;
-    spec.cpu = -1;
-  }
+  if (!settings_.realtime_thread) spec.sched_fifo_priority = 0;
+  if (!settings_.pin_cpu) spec.cpu = -1;
   thread_.emplace(spec, [this](std::stop_token stop) { run(stop); });
 }
 
@@ -64,7 +63,10 @@ void SerialImuDriver::stop() {
 
 void SerialImuDriver::run(const std::stop_token& stop) noexcept {
   const std::int64_t poll_period_ns = rt::ms_to_ns(settings_.poll_timeout_ms);
-  const std::int64_t reopen_period_ns = rt::ms_to_ns(settings_.reopen_interval_ms);
+  // A /dev/pts/N port is never reopened: pty numbers are reused at once by unrelated terminals
+  // and replay feeders, so the name would soon lead to someone else's stream.
+  const bool is_pty = port_.path().rfind("/dev/pts/", 0) == 0;
+  const std::int64_t reopen_period_ns = is_pty ? 0 : rt::ms_to_ns(settings_.reopen_interval_ms);
   int fd = port_.fd();
   bool hung_up = false;
   std::int64_t next_reopen_ns = 0;

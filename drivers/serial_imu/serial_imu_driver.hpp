@@ -10,6 +10,7 @@
 // off is dropped and counted (truncated_at_hangup) and held warm-up samples are released. The
 // port is then closed and reopened by path every reopen_interval_ms (without allocating) until it
 // comes back (counted in reopens; the new connection gets a new device time base) or stop().
+// A port named /dev/pts/N is never reopened (pty numbers are reused at once by other terminals).
 // Real-time: the parser, stamper buffers and read buffer are allocated by the constructor; the
 // loop does not allocate, lock or log.
 #pragma once
@@ -42,12 +43,13 @@ struct SerialImuDriverSettings {
   std::string protocol = "xsens_mt";
   int poll_timeout_ms = 20;      ///< bound on stop() latency
   int reopen_interval_ms = 500;  ///< after a hang-up, reopen the port this often (0: never)
-  bool realtime_thread = true;   ///< apply the thread table's priority and CPU
+  bool realtime_thread = true;   ///< request the thread table's SCHED_FIFO priority
+  bool pin_cpu = true;           ///< pin to the thread table's CPU
   ImuStamperSettings stamper;
 };
 
 /// Driver settings from the robot config (imu.port, imu.baud, imu.protocol, imu.rate_hz,
-/// rt.realtime_priorities).
+/// rt.realtime_priorities, rt.pin_cpus).
 [[nodiscard]] SerialImuDriverSettings serial_imu_settings(const config::ImuSettings& imu,
                                                           const config::RtSettings& rt);
 

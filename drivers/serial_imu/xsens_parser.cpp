@@ -1,5 +1,7 @@
 #include "drivers/serial_imu/xsens_parser.hpp"
 
+#include "drivers/serial_imu/parser_factory.hpp"
+
 #include <algorithm>
 #include <cstring>
 
@@ -198,6 +200,17 @@ void XsensMtParser::feed(const std::uint8_t* data, std::size_t size, ImuSampleSi
       return;
     }
   }
+}
+
+}  // namespace vigs::drivers
+
+namespace vigs::drivers {
+
+// Found by CMake through this file's name (see parser_factory.hpp).
+void register_xsens_parser(ImuParserRegistry& registry) {
+  registry.add("xsens_mt", []() -> std::unique_ptr<ImuProtocolParser> {
+    return std::make_unique<XsensMtParser>();
+  });
 }
 
 }  // namespace vigs::drivers

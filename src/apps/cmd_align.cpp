@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -91,8 +92,17 @@ int run_align(const AlignOptions& o) {
   tracking::GaussianCloud src, tgt;
   tracking::KdTree src_tree, tgt_tree;
   const auto t_pre = Clock::now();
-  const auto src_stats = pre.process(src_depth, src_rgb, src, src_tree);
-  const auto tgt_stats = pre.process(tgt_depth, tgt_rgb, tgt, tgt_tree);
+  const auto process = [&pre](const io::ImageF32& depth, const io::ImageU8& rgb,
+                              const std::vector<std::string>& files, tracking::GaussianCloud& cloud,
+                              tracking::KdTree& tree) {
+    try {
+      return pre.process(depth, rgb, cloud, tree);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(files[0] + ", " + files[1] + ": " + e.what());
+    }
+  };
+  const auto src_stats = process(src_depth, src_rgb, o.source, src, src_tree);
+  const auto tgt_stats = process(tgt_depth, tgt_rgb, o.target, tgt, tgt_tree);
   const double pre_ms = ms_since(t_pre);
 
   tracking::Gicp gicp(tracking::gicp_setting(ts));

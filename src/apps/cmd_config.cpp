@@ -1,5 +1,6 @@
 // `vigs config print [FILE]` and `vigs config check FILE...`.
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "core/config/yaml_printer.hpp"
+#include "drivers/serial_imu/parser_factory.hpp"
 
 namespace vigs::apps {
 
@@ -43,7 +45,15 @@ void add_config_command(CLI::App& app, ExitCode& exit_code) {
   check->callback([&exit_code] {
     for (const auto& file : check_files) {
       try {
-        config::load_config_file(file);
+        const auto cfg = config::load_config_file(file);
+        // Rules the schema cannot know: which protocol parsers this binary has.
+        try {
+          (void)drivers::make_imu_parser(cfg.imu.protocol);
+        } catch (const std::invalid_argument& e) {
+          std::string what = e.what();
+          what = what.substr(what.find(": ") + 2);  // the key is named by the diagnostic
+          throw config::ConfigError({config::diagnose_key(file, "imu.protocol", what)});
+        }
         std::cout << file << ": ok\n";
       } catch (const config::ConfigError& e) {
         std::cerr << e.what() << "\n";

@@ -26,9 +26,26 @@ struct EvalArgs {
   std::string delta_unit = "frames";
   std::string results_dir, config_file, est_frame = "camera", est_name = "trajectory.tum";
   bool no_plots = false, no_render = false;
+  bool gt_to_camera = false;
   int every = 5, threads = 2;
   double keyframe_tol_s = 0.005;
 };
+
+config::RobotConfig load_robot(const std::string& file) {
+  return file.empty() ? config::load_config_text(config::default_config_text(),
+                                                 std::string(config::kDefaultConfigName))
+                      : config::load_config_file(file);
+}
+
+/// Ground truth as given, or (--gt-to-camera) moved from the body to the camera with T_b_c.
+eval::Trajectory load_gt(const EvalArgs& a) {
+  eval::Trajectory gt = eval::load_any_trajectory(a.gt, a.topic);
+  if (a.gt_to_camera) {
+    const geometry::Pose T_b_c = sim::body_from_camera(load_robot(a.config_file).extrinsics);
+    for (auto& p : gt.poses) p.T_w_x = p.T_w_x * T_b_c;
+  }
+  return gt;
+}
 
 /// Runs `body`, turning input errors into a message on stderr and exit code 1.
 template <class Body>
@@ -53,6 +70,10 @@ void add_trajectory_options(CLI::App* c, EvalArgs& a) {
   c->add_option("--max-dt", a.max_dt_s, "association window, s (TUM: 0.02)")
       ->check(CLI::PositiveNumber);
   c->add_option("--topic", a.topic, "PoseStamped topic when --gt is a .mcap file");
+  c->add_flag("--gt-to-camera", a.gt_to_camera,
+              "compare camera poses: ground truth T_w_b becomes T_w_b T_b_c (T_b_c from --config)");
+  c->add_option("--config", a.config_file, "robot YAML for T_b_c (default: built-in)")
+      ->check(CLI::ExistingFile);
 }
 
 }  // namespace
@@ -71,7 +92,7 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       eval::AteOptions opt;
       opt.align = eval::parse_alignment(a.align);
       opt.max_dt_s = a.max_dt_s;
-      const auto gt = eval::load_any_trajectory(a.gt, a.topic);
+      const auto gt = load_gt(a);
       const auto est = eval::load_any_trajectory(a.est, a.topic);
       std::cout << eval::ate_json(eval::compute_ate(gt, est, opt), opt) << "\n";
     });
@@ -79,20 +100,22 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
 
   auto* rpe = group->add_subcommand("rpe", "Relative pose error over a delta, as JSON");
   add_trajectory_options(rpe, a);
-  rpe->add_option("--delta", a.delta, "pose distance: frames (whole number) or metres")
+  rpe->add_option("--delta", a.delta, "pose distance: frames (whole number), metres or seconds")
       ->check(CLI::PositiveNumber);
-  rpe->add_option("--delta-unit", a.delta_unit, "frames | m")
-      ->check(CLI::IsMember({"frames", "m"}));
+  rpe->add_option("--delta-unit", a.delta_unit, "frames | m | s")
+      ->check(CLI::IsMember({"frames", "m", "s"}));
   rpe->add_option("--align", a.align, "none (or se3: same result) | sim3 (scale only)")
       ->check(CLI::IsMember({"se3", "sim3", "none"}));
   rpe->callback([&exit_code] {
     guarded(exit_code, [] {
       eval::RpeOptions opt;
       opt.delta = a.delta;
-      opt.unit = a.delta_unit == "m" ? eval::DeltaUnit::kMetres : eval::DeltaUnit::kFrames;
+      opt.unit = a.delta_unit == "m"   ? eval::DeltaUnit::kMetres
+                 : a.delta_unit == "s" ? eval::DeltaUnit::kSeconds
+                                       : eval::DeltaUnit::kFrames;
       opt.max_dt_s = a.max_dt_s;
       opt.align = a.align == "sim3" ? eval::Alignment::kSim3 : eval::Alignment::kNone;
-      const auto gt = eval::load_any_trajectory(a.gt, a.topic);
+      const auto gt = load_gt(a);
       const auto est = eval::load_any_trajectory(a.est, a.topic);
       std::cout << eval::rpe_json(eval::compute_rpe(gt, est, opt), opt) << "\n";
     });
@@ -133,10 +156,7 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       ->capture_default_str();
   run->callback([&exit_code] {
     guarded(exit_code, [] {
-      const auto cfg = a.config_file.empty()
-                           ? config::load_config_text(config::default_config_text(),
-                                                      std::string(config::kDefaultConfigName))
-                           : config::load_config_file(a.config_file);
+      const auto cfg = load_robot(a.config_file);
       eval::ReportOptions opt;
       opt.results_dir = a.results_dir;
       opt.gt_path = a.gt;

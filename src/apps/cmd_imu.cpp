@@ -61,7 +61,8 @@ int run_listen(const ListenOptions& o) {
   if (!o.port.empty()) s.port = o.port;
   if (o.baud > 0) s.baud = o.baud;
   if (!o.protocol.empty()) s.protocol = o.protocol;
-  s.realtime_thread = false;  // a diagnostic tool: no SCHED_FIFO needed
+  s.realtime_thread = false;  // a diagnostic tool: no SCHED_FIFO or CPU pinning needed
+  s.pin_cpu = false;
 
   rt::SpscRing<ImuSample> ring(static_cast<std::size_t>(cfg.rt.imu_ring_capacity));
   drivers::SerialImuDriver driver(s, ring);

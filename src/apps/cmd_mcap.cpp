@@ -2,6 +2,7 @@
 // JSON: header, summary statistics, per-channel counts and time range, and every problem found
 // (truncation, corruption, CRC mismatches) with its byte offset. With --decode every message of
 // a known ROS type is decoded too. Exit 0 = clean, 1 = problems found, 2 = cannot open.
+// `vigs mcap oni IN.mcap OUT.oni [...]`: colour + depth images to an OpenNI2 `.oni` clip.
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -11,6 +12,7 @@
 #include "apps/commands.hpp"
 #include "io/io_error.hpp"
 #include "io/mcap/mcap_reader.hpp"
+#include "io/oni/mcap_to_oni.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
@@ -150,6 +152,34 @@ void add_mcap_command(CLI::App& app, ExitCode& exit_code) {
                  "PoseStamped, Odometry, SerialChunk; cdr or ros1)");
   info->add_option("--topic", topics, "only these topics (repeatable)");
   info->callback([&exit_code] { exit_code.value = run_info(file, decode, topics); });
+
+  auto* oni = mcap->add_subcommand(
+      "oni", "Write the colour and depth images of a recording as an OpenNI2 .oni clip (JSON out)");
+  static std::string in, out;
+  static io::oni::McapToOniOptions oni_options;
+  oni->add_option("IN", in, "MCAP file")->required();
+  oni->add_option("OUT", out, "ONI file to write (atomically)")->required();
+  oni->add_option("--rgb-topic", oni_options.rgb_topic, "rgb8, bgr8 or mono8 Image topic")
+      ->capture_default_str();
+  oni->add_option("--depth-topic", oni_options.depth_topic, "16UC1 (mm) or 32FC1 (m) Image topic")
+      ->capture_default_str();
+  oni->add_option("--max-frames", oni_options.max_frames, "at most this many frames")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  oni->add_option("--fps", oni_options.fps, "clip fps (0 = from the stamps)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
+  oni->callback([&exit_code] {
+    try {
+      const auto r = io::oni::make_oni_from_mcap(in, out, oni_options);
+      std::cout << "{\"oni\": " << json_string(out) << ", \"frames\": " << r.frames
+                << ", \"unmatched\": " << r.unmatched << ", \"fps\": " << r.fps
+                << ", \"width\": " << r.width << ", \"height\": " << r.height << "}\n";
+    } catch (const io::IoError& e) {
+      std::cerr << e.what() << "\n";
+      exit_code.value = 1;
+    }
+  });
 }
 
 }  // namespace vigs::apps

@@ -87,12 +87,14 @@ void add_simulate_command(CLI::App& app, ExitCode& exit_code) {
       std::printf(
           "{\"out\": \"%s\", \"preset\": \"%s\", \"humans\": %d, \"seed\": %d, \"gray\": %s, "
           "\"frames\": %lld, \"imu_samples\": %lld, \"sequence_s\": %.3f, "
-          "\"route_length_m\": %.1f, \"wall_s\": %.3f, \"render_s\": %.3f, "
+          "\"route_length_m\": %.1f, \"sequence_length_m\": %.1f, \"wall_s\": %.3f, \"render_s\": "
+          "%.3f, "
           "\"wall_per_sequence_s\": %.3f, \"cpu_s\": %.3f, \"messages\": %llu, \"bytes\": %llu}\n",
           a.out.c_str(), cfg.sim.preset.c_str(), cfg.sim.humans, cfg.sim.seed,
           cfg.sim.gray ? "true" : "false", static_cast<long long>(stats.frames),
           static_cast<long long>(stats.imu_samples), stats.sequence_s, stats.route_length_m,
-          stats.wall_s, stats.render_s, stats.wall_s / std::max(stats.sequence_s, 1e-9), cpu_s,
+          stats.sequence_length_m, stats.wall_s, stats.render_s,
+          stats.wall_s / std::max(stats.sequence_s, 1e-9), cpu_s,
           static_cast<unsigned long long>(sink.stats().message_count),
           static_cast<unsigned long long>(sink.stats().bytes_written));
     } catch (const config::ConfigError& e) {

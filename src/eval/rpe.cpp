@@ -17,7 +17,9 @@ RpeResult compute_rpe(const Trajectory& gt, const Trajectory& est, const RpeOpti
   RpeResult r;
   r.associated = pairs.size();
   std::vector<geometry::Pose> G, P;
+  std::vector<double> t_s;
   for (const auto& m : pairs) {
+    t_s.push_back(gt.poses[m.a].t_s);
     G.push_back(gt.poses[m.a].T_w_x);
     P.push_back(est.poses[m.b].T_w_x);
   }
@@ -40,9 +42,12 @@ RpeResult compute_rpe(const Trajectory& gt, const Trajectory& est, const RpeOpti
   for (std::size_t i = 0; i < G.size(); ++i) {
     if (opt.unit == DeltaUnit::kFrames) {
       j = i + static_cast<std::size_t>(opt.delta);
-    } else {
+    } else if (opt.unit == DeltaUnit::kMetres) {
       if (j < i) j = i;
       while (j < G.size() && path_m[j] - path_m[i] < opt.delta) ++j;
+    } else {
+      if (j < i) j = i;
+      while (j < G.size() && t_s[j] - t_s[i] < opt.delta) ++j;
     }
     if (j >= G.size()) break;
     const geometry::Pose dG = G[i].inverse() * G[j];
@@ -66,7 +71,10 @@ std::string rpe_json(const RpeResult& r, const RpeOptions& opt) {
   std::snprintf(head, sizeof head,
                 "{\"associated\": %zu, \"pairs\": %zu, \"delta\": %.17g, \"delta_unit\": \"%s\", "
                 "\"align\": \"%s\", \"scale\": %.17g, \"translation_m\": {",
-                r.associated, r.pairs, opt.delta, opt.unit == DeltaUnit::kFrames ? "frames" : "m",
+                r.associated, r.pairs, opt.delta,
+                opt.unit == DeltaUnit::kFrames   ? "frames"
+                : opt.unit == DeltaUnit::kMetres ? "m"
+                                                 : "s",
                 alignment_name(opt.align), r.scale);
   return std::string(head) + stats_json_fields(r.translation_m) + "}, \"rotation_deg\": {" +
          stats_json_fields(r.rotation_deg) + "}}";

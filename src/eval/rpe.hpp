@@ -10,10 +10,12 @@
 
 namespace vigs::eval {
 
-enum class DeltaUnit { kFrames, kMetres };
+enum class DeltaUnit { kFrames, kMetres, kSeconds };
 
 struct RpeOptions {
-  double delta = 1.0;  ///< frames (integer >= 1) or metres of ground-truth path
+  /// frames (integer >= 1), metres of ground-truth path, or seconds (TUM evaluate_rpe.py's
+  /// default unit: the first pose at least delta seconds later)
+  double delta = 1.0;
   DeltaUnit unit = DeltaUnit::kFrames;
   double max_dt_s = 0.02;  ///< association window
   /// none or se3: relative motion is unaffected by a rigid alignment. sim3: the estimate's

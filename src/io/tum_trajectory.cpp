@@ -35,6 +35,7 @@ std::vector<TumPose> parse_tum_trajectory(std::string_view text, const std::stri
         throw IoError(name + ":" + std::to_string(line_no) +
                       ": more than 8 fields (expected 't tx ty tz qx qy qz qw')");
       }
+      if (line[i] == '+') ++i;  // from_chars takes no leading '+'
       const char* begin = line.data() + i;
       const auto [end, ec] = std::from_chars(begin, line.data() + line.size(), v[count]);
       if (ec != std::errc{} || !std::isfinite(v[count]) ||

@@ -66,11 +66,19 @@ class Builder {
     s_.boxes.push_back({b, m, static_cast<std::uint32_t>(rng_.next_u64())});
   }
 
-  /// A room's own four walls inside its rectangle, a door on `door_side`, and furniture.
+  /// The block whose rooms come next (to know which room sides face a corridor).
+  void set_block(const Interval& x, const Interval& y) {
+    bx_ = x;
+    by_ = y;
+  }
+
+  /// A room's own four walls inside its rectangle, a door on `door_side`, pilasters on the
+  /// corridor side of walls that face a corridor, and furniture.
   void room(const Rect& r, Side door_side) {
     const double t = p_.wall_thickness_m, H = p_.wall_height_m;
     const std::uint32_t tint = static_cast<std::uint32_t>(rng_.next_u64());
     auto wall = [&](const Aabb& b) { s_.boxes.push_back({b, Material::kWall, tint}); };
+    double door_u = 0.0;
     // Each side: (along-axis start, end) and the fixed band across.
     for (int side = 0; side < 4; ++side) {
       const bool horizontal = side == kSouth || side == kNorth;
@@ -91,6 +99,7 @@ class Builder {
       }
       const double dw = p_.door_width_m;
       const double u = rng_.uniform(a0 + 0.4, std::max(a0 + 0.4, a1 - 0.4 - dw));
+      door_u = u;
       seg(a0, u, 0.0, H);
       seg(u + dw, a1, 0.0, H);
       seg(u, u + dw, p_.door_height_m, H);
@@ -104,6 +113,7 @@ class Builder {
         occupied_.push_back({x0, u - 0.2, x0 + depth, u + dw + 0.2});
       }
     }
+    pilasters(r, door_side, door_u);
     furnish({r.x0 + t, r.y0 + t, r.x1 - t, r.y1 - t}, door_side);
     occupied_.clear();
   }
@@ -113,6 +123,37 @@ class Builder {
     double length, depth, height;
     Material material;
   };
+
+  /// Shallow full-height pilasters (0.3 m wide, 0.12 m deep) every 2.5-4.5 m on the corridor
+  /// face of the room's corridor-facing walls: geometry along otherwise flat corridors, so that
+  /// depth-only registration is constrained along the corridor axis.
+  void pilasters(const Rect& r, Side door_side, double door_u) {
+    constexpr double kWidth = 0.3, kDepth = 0.12;
+    const bool faces[4] = {std::abs(r.y0 - by_.lo) < 1e-9 && by_.lo_is_corridor,
+                           std::abs(r.y1 - by_.hi) < 1e-9 && by_.hi_is_corridor,
+                           std::abs(r.x0 - bx_.lo) < 1e-9 && bx_.lo_is_corridor,
+                           std::abs(r.x1 - bx_.hi) < 1e-9 && bx_.hi_is_corridor};
+    const std::uint32_t tint = static_cast<std::uint32_t>(rng_.next_u64());
+    for (int side = 0; side < 4; ++side) {
+      if (!faces[side]) continue;
+      const bool horizontal = side == kSouth || side == kNorth;
+      const double a0 = horizontal ? r.x0 : r.y0, a1 = horizontal ? r.x1 : r.y1;
+      const double c0 = side == kSouth   ? r.y0 - kDepth
+                        : side == kNorth ? r.y1
+                        : side == kWest  ? r.x0 - kDepth
+                                         : r.x1;
+      for (double a = a0 + rng_.uniform(0.3, 1.5); a + kWidth < a1 - 0.1;
+           a += rng_.uniform(2.5, 4.5)) {
+        if (side == door_side && a + kWidth > door_u - 0.35 &&
+            a < door_u + p_.door_width_m + 0.35) {
+          continue;
+        }
+        const Aabb b = horizontal ? make_box(a, c0, 0.0, a + kWidth, c0 + kDepth, p_.wall_height_m)
+                                  : make_box(c0, a, 0.0, c0 + kDepth, a + kWidth, p_.wall_height_m);
+        s_.boxes.push_back({b, Material::kWall, tint});
+      }
+    }
+  }
 
   void furnish(const Rect& in, Side door_side) {
     static const Item kItems[] = {{1.4, 0.7, 0.75, Material::kWood},    // desk
@@ -159,6 +200,7 @@ class Builder {
   Scene& s_;
   Rng& rng_;
   std::vector<Rect> occupied_;
+  Interval bx_{}, by_{};
 };
 
 void make_route(const FloorPlanParams& p, Scene& s, Rng& rng) {
@@ -235,6 +277,7 @@ Scene generate_floor_plan(const FloorPlanParams& p, std::uint64_t seed) {
       const bool ycorr = Y.lo_is_corridor && Y.hi_is_corridor;
       const bool xcorr = X.lo_is_corridor && X.hi_is_corridor;
       const bool thin_x = w < p.split_block_above_m, thin_y = d < p.split_block_above_m;
+      b.set_block(X, Y);
       if (thin_x && !thin_y) {  // a strip along y: one column, door on a corridor side
         const Side door = X.hi_is_corridor   ? kEast
                           : X.lo_is_corridor ? kWest

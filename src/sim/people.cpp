@@ -1,5 +1,6 @@
 #include "sim/people.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sim/rng.hpp"
@@ -37,8 +38,10 @@ std::vector<Walker> make_walkers(const Scene& scene, int count, std::uint64_t se
     const Walkway& w = scene.walkways[rng.next_u64() % scene.walkways.size()];
     const Eigen::Vector2d dir = (w.b - w.a).normalized();
     const Eigen::Vector2d left(-dir.y(), dir.x());
-    // Off the centre line (where the camera is) and clear of the junctions.
-    const double side = (rng.uniform() < 0.5 ? -1.0 : 1.0) * (w.half_width_m - 0.38);
+    // Off the centre line (where the camera is: at least 0.5 m, so that swinging arms stay
+    // 0.2 m clear of it), clear of the wall pilasters (0.12 m deep) where the corridor is wide
+    // enough, and away from the junctions.
+    const double side = (rng.uniform() < 0.5 ? -1.0 : 1.0) * std::max(0.5, w.half_width_m - 0.45);
     Walker k;
     k.a = w.a + dir * 1.6 + left * side;
     k.b = w.b - dir * 1.6 + left * side;

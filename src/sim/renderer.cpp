@@ -127,9 +127,11 @@ void Renderer::render_rows(const geometry::Pose& T_w_c, const PeopleSnapshot& pe
       if (cast(ray, &people, hit)) {
         const float z = hit.t;  // camera z of d is 1
         const float shade = 0.55f + 0.45f * std::abs(dot(hit.normal, light));
-        const Rgb a = albedo(hit.material, hit.tint, hit.u, hit.v);
-        c = {a.r * shade, a.g * shade, a.b * shade};
         const float cos_inc = std::abs(dot(hit.normal, d)) / std::sqrt(dot(d, d));
+        // Pixel size on the surface, stretched at oblique incidence.
+        const float footprint = z / fx / std::max(cos_inc, 0.15f);
+        const Rgb a = albedo(hit.material, hit.tint, hit.u, hit.v, footprint);
+        c = {a.r * shade, a.g * shade, a.b * shade};
         const std::uint64_t h = hash3(noise_key, idx, 0);
         bool valid = z >= s_.min_depth_m && z <= s_.max_depth_m && cos_inc >= s_.hole_cos;
         if (valid && cos_inc < s_.dropout_cos) {

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <future>
 
 #include "sim/floor_plan.hpp"
 
@@ -71,41 +72,54 @@ SimStats Simulator::run(SimSink& sink, const std::function<void(double, double)>
   const auto t_start = Clock::now();
   SimStats stats;
   stats.sequence_s = duration_s_;
-  const auto& ctrl = trajectory_->control_points();
-  for (std::size_t i = 1; i < ctrl.size(); ++i)
-    stats.route_length_m += (ctrl[i] - ctrl[i - 1]).norm();
+  // Path lengths by integrating the spline's speed (10 ms steps, midpoint rule).
+  for (double t = 0.005; t < trajectory_->duration_s(); t += 0.01) {
+    const double ds = trajectory_->state(t).v_w_mps.norm() * 0.01;
+    stats.route_length_m += ds;
+    if (t < duration_s_) stats.sequence_length_m += ds;
+  }
 
   ImuSynthesizer imu(cfg_.imu, static_cast<std::uint64_t>(cfg_.sim.seed));
   const auto imu_period_ns = static_cast<std::int64_t>(std::llround(1e9 / cfg_.imu.rate_hz));
   const auto frame_period_ns = static_cast<std::int64_t>(std::llround(1e9 / cfg_.camera.rate_hz));
   const auto end_ns = static_cast<std::int64_t>(std::llround(duration_s_ * 1e9));
-  std::int64_t next_imu_ns = 0, next_frame_ns = 0;
-  std::uint64_t frame_index = 0;
-  RgbdFrame frame;
-  while (next_imu_ns <= end_ns || next_frame_ns <= end_ns) {
-    if (next_imu_ns <= next_frame_ns && next_imu_ns <= end_ns) {
-      const double t = static_cast<double>(next_imu_ns) * 1e-9;
-      const BodyState st = trajectory_->state(t);
+  const std::int64_t n_frames = end_ns / frame_period_ns + 1;
+  std::int64_t next_imu_ns = 0;
+  // IMU and ground truth up to and including t_limit (at equal stamps they precede the frame).
+  auto emit_imu_until = [&](std::int64_t t_limit) {
+    for (; next_imu_ns <= t_limit && next_imu_ns <= end_ns; next_imu_ns += imu_period_ns) {
+      const BodyState st = trajectory_->state(static_cast<double>(next_imu_ns) * 1e-9);
       sink.imu(imu.measure(st, next_imu_ns));
       geometry::Pose T_w_b = geometry::Pose::Identity();
       T_w_b.linear() = st.R_w_b;
       T_w_b.translation() = st.p_w_m;
       sink.ground_truth(next_imu_ns, T_w_b);
       ++stats.imu_samples;
-      next_imu_ns += imu_period_ns;
-      continue;
     }
-    if (next_frame_ns > end_ns) break;
-    const double t = static_cast<double>(next_frame_ns) * 1e-9;
-    const auto t_render = Clock::now();
-    render_at(t, frame_index, frame);
-    stats.render_s += seconds_since(t_render);
-    sink.frame(next_frame_ns, camera_, frame);
+  };
+  // Frame j+1 is rendered while frame j and the IMU samples after it are written: the sink
+  // sees exactly the serial order, on this thread only. (Buffers outlive the future.)
+  RgbdFrame buffers[2];
+  std::future<double> rendering;
+  auto launch = [&](std::int64_t j) {
+    rendering = std::async(std::launch::async, [this, j, frame_period_ns, &buffers] {
+      const auto t0 = Clock::now();
+      render_at(static_cast<double>(j * frame_period_ns) * 1e-9, static_cast<std::uint64_t>(j),
+                buffers[j % 2]);
+      return seconds_since(t0);
+    });
+  };
+  if (n_frames > 0) launch(0);
+  for (std::int64_t j = 0; j < n_frames; ++j) {
+    const std::int64_t t_ns = j * frame_period_ns;
+    emit_imu_until(t_ns);
+    stats.render_s += rendering.get();
+    if (j + 1 < n_frames) launch(j + 1);
+    sink.frame(t_ns, camera_, buffers[j % 2]);
     ++stats.frames;
-    ++frame_index;
-    next_frame_ns += frame_period_ns;
-    if (progress) progress(t, duration_s_);
+    if (progress) progress(static_cast<double>(t_ns) * 1e-9, duration_s_);
   }
+  emit_imu_until(end_ns);
   stats.wall_s = seconds_since(t_start);
   return stats;
 }

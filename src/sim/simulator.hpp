@@ -20,9 +20,10 @@ struct SimStats {
   std::int64_t frames = 0;
   std::int64_t imu_samples = 0;
   double sequence_s = 0.0;
-  double route_length_m = 0.0;  ///< of the whole route
-  double wall_s = 0.0;          ///< run time
-  double render_s = 0.0;        ///< of which ray casting
+  double route_length_m = 0.0;     ///< path length of the whole route
+  double sequence_length_m = 0.0;  ///< path length within the generated sequence
+  double wall_s = 0.0;             ///< run time
+  double render_s = 0.0;           ///< ray casting (overlaps with writing the previous frame)
 };
 
 class Simulator {
@@ -31,8 +32,9 @@ class Simulator {
   /// cfg.extrinsics. Throws std::invalid_argument on an unknown preset.
   explicit Simulator(const config::RobotConfig& cfg);
 
-  /// Generates the whole sequence into `sink`. `progress(done_s, total_s)` is called after
-  /// every frame when given.
+  /// Generates the whole sequence into `sink`, calling it from this thread only. While frame j
+  /// is written, frame j+1 is already being rendered. `progress(done_s, total_s)` is called
+  /// after every frame when given.
   SimStats run(SimSink& sink, const std::function<void(double, double)>& progress = {});
 
   /// Body pose T_w_b and camera pose T_w_c = T_w_b T_b_c at time t.

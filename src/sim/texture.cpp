@@ -1,5 +1,6 @@
 #include "sim/texture.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vigs::sim {
@@ -45,10 +46,16 @@ Rgb vivid(std::uint32_t h) {
           0.15f + 0.8f * unit(h * 2891336453u + 7u)};
 }
 
-/// Two octaves of detail noise centred on 1.
-inline float detail(float u, float v, std::uint32_t seed, float amp) {
-  const float n = 0.65f * value_noise(u * 4.0f, v * 4.0f, seed) +
-                  0.35f * value_noise(u * 23.0f, v * 23.0f, seed + 17u);
+/// Two octaves of detail noise centred on 1. The fine octave (23 cycles per metre) fades to
+/// its mean where a pixel covers more than a quarter of its period (gone at half a period,
+/// the Nyquist limit), so distant and grazing surfaces do not alias into view-dependent
+/// speckle. `footprint` is the pixel's size on the surface in noise units (metres here).
+inline float detail(float u, float v, std::uint32_t seed, float amp, float footprint) {
+  const float cycles_per_pixel = 23.0f * footprint;
+  const float w = std::clamp((0.5f - cycles_per_pixel) * 4.0f, 0.0f, 1.0f);
+  const float fine = w > 0.0f ? value_noise(u * 23.0f, v * 23.0f, seed + 17u) : 0.5f;
+  const float n =
+      0.65f * value_noise(u * 4.0f, v * 4.0f, seed) + 0.35f * (0.5f + w * (fine - 0.5f));
   return 1.0f + amp * (2.0f * n - 1.0f);
 }
 
@@ -65,7 +72,7 @@ float value_noise(float x, float y, std::uint32_t seed) {
   return (a + (b - a) * tx) + ((c + (d - c) * tx) - (a + (b - a) * tx)) * ty;
 }
 
-Rgb albedo(Material material, std::uint32_t tint, float u, float v) {
+Rgb albedo(Material material, std::uint32_t tint, float u, float v, float fp) {
   switch (material) {
     case Material::kFloor: {  // 0.6 m tiles, per-tile shade, dark grout, speckle
       const float tu = u / 0.6f, tv = v / 0.6f;
@@ -75,13 +82,13 @@ Rgb albedo(Material material, std::uint32_t tint, float u, float v) {
       const float shade = 0.8f + 0.25f * unit(hash2(ix, iy, 11u));
       const Rgb base =
           mix({0.55f, 0.52f, 0.47f}, {0.42f, 0.45f, 0.50f}, value_noise(u * 0.15f, v * 0.15f, 3u));
-      return scale(base, shade * detail(u, v, 5u, 0.18f));
+      return scale(base, shade * detail(u, v, 5u, 0.18f, fp));
     }
     case Material::kCeiling: {  // 0.6 m panels and light panels every 2.4 m
       const float lu = fract(u / 2.4f), lv = fract(v / 2.4f);
       if (lu > 0.25f && lu < 0.75f && lv > 0.375f && lv < 0.625f) return {0.98f, 0.97f, 0.92f};
       if (fract(u / 0.6f) < 0.03f || fract(v / 0.6f) < 0.03f) return {0.45f, 0.45f, 0.45f};
-      return scale({0.80f, 0.80f, 0.78f}, detail(u, v, 7u, 0.12f));
+      return scale({0.80f, 0.80f, 0.78f}, detail(u, v, 7u, 0.12f, fp));
     }
     case Material::kWall: {
       if (v < 0.1f) return {0.30f, 0.27f, 0.25f};  // skirting board
@@ -94,22 +101,22 @@ Rgb albedo(Material material, std::uint32_t tint, float u, float v) {
         const auto bx = static_cast<std::int32_t>(std::floor(u / 0.15f));
         const auto by = static_cast<std::int32_t>(std::floor(v / 0.15f));
         const Rgb block = vivid(hash2(bx, by, ph));
-        return scale(block, detail(u, v, ph, 0.10f));
+        return scale(block, detail(u, v, ph, 0.10f, fp));
       }
       const Rgb base = palette(tint);
       const float stain = 0.88f + 0.24f * value_noise(u * 0.8f, v * 0.8f, tint);
-      return scale(base, stain * detail(u, v, tint + 3u, 0.10f));
+      return scale(base, stain * detail(u, v, tint + 3u, 0.10f, fp));
     }
     case Material::kWood: {
       const float grain =
           0.5f + 0.5f * std::sin(u * 35.0f + 6.0f * value_noise(u * 2.0f, v * 9.0f, tint));
       return scale(mix({0.55f, 0.36f, 0.20f}, {0.40f, 0.25f, 0.13f}, grain),
-                   detail(u, v, tint, 0.08f));
+                   detail(u, v, tint, 0.08f, fp));
     }
     case Material::kMetal:
-      return scale({0.58f, 0.60f, 0.62f}, detail(u * 0.2f, v * 6.0f, tint, 0.12f));
+      return scale({0.58f, 0.60f, 0.62f}, detail(u * 0.2f, v * 6.0f, tint, 0.12f, 6.0f * fp));
     case Material::kFabric:
-      return scale(vivid(tint), 0.6f * detail(u, v, tint, 0.2f));
+      return scale(vivid(tint), 0.6f * detail(u, v, tint, 0.2f, fp));
     case Material::kScreen: {
       const auto bx = static_cast<std::int32_t>(std::floor(u / 0.05f));
       const auto by = static_cast<std::int32_t>(std::floor(v / 0.04f));
@@ -117,10 +124,10 @@ Rgb albedo(Material material, std::uint32_t tint, float u, float v) {
       return {0.1f + 0.5f * on, 0.15f + 0.6f * on, 0.2f + 0.7f * on};
     }
     case Material::kSkin:
-      return scale({0.78f, 0.60f, 0.50f}, detail(u, v, tint, 0.06f));
+      return scale({0.78f, 0.60f, 0.50f}, detail(u, v, tint, 0.06f, fp));
     case Material::kCloth: {
       const float stripe = fract(v / 0.12f) < 0.5f ? 1.0f : 0.7f;
-      return scale(vivid(tint), stripe * detail(u, v, tint, 0.15f));
+      return scale(vivid(tint), stripe * detail(u, v, tint, 0.15f, fp));
     }
   }
   return {1.0f, 0.0f, 1.0f};

@@ -16,7 +16,8 @@ struct Rgb {
 float value_noise(float x, float y, std::uint32_t seed);
 
 /// Albedo in [0, 1] of `material` at surface coordinates (u, v), metres. Walls and
-/// furniture sides use u = horizontal coordinate along the face, v = height.
-Rgb albedo(Material material, std::uint32_t tint, float u, float v);
+/// furniture sides use u = horizontal coordinate along the face, v = height. `footprint_m`
+/// is the size of the pixel on the surface; fine detail fades out where it would alias.
+Rgb albedo(Material material, std::uint32_t tint, float u, float v, float footprint_m = 0.0f);
 
 }  // namespace vigs::sim

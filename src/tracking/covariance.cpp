@@ -33,11 +33,11 @@ void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, 
   cloud.cov_m2.resize(n);
   const int k = std::clamp(setting.k_neighbors, 1, KdTree::kMaxK);
   team.run([&](int t) {
-    std::size_t begin = 0, end = 0;
-    ForkJoin::chunk(n, t, team.size(), begin, end);
     std::uint32_t idx[KdTree::kMaxK];
     float d2[KdTree::kMaxK];
-    for (std::size_t i = begin; i < end; ++i) {
+    const std::vector<std::uint32_t>& order = tree.leaf_order();
+    ForkJoin::for_each_interleaved(n, t, team.size(), 256, [&](std::size_t o) {
+      const std::uint32_t i = order[o];
       const int found = tree.knn(cloud.points_m[i], k, idx, d2);
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       Eigen::Matrix3d sum_sq = Eigen::Matrix3d::Zero();
@@ -53,7 +53,7 @@ void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, 
       }
       cloud.cov_raw_m2[i] = raw;
       cloud.cov_m2[i] = regularize_covariance(raw, setting);
-    }
+    });
   });
 }
 

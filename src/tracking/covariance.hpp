@@ -12,7 +12,10 @@
 //    (l1/l2, 1, l3/l2), each clamped below at epsilon (1e-3). The ellipse keeps its shape
 //    but is scale-free (dimensionless). GS-ICP sets 1e-9*I when l2 == 0 (collinear or
 //    coincident neighbours); we use the identity there instead, because a near-zero
-//    covariance would outweigh every other correspondence.
+//    covariance would outweigh every other correspondence. GS-ICP also drops neighbours
+//    whose squared distance exceeds knn_max_distance (its script default 99999 m^2, i.e.
+//    off) and divides by k rather than by the neighbours kept; with the filter off both
+//    agree with this implementation.
 //  - plane: U diag(1, 1, epsilon) U^T (fast_gicp's PLANE): every point a flat disc.
 //  - none: the raw covariance (m^2), unchanged.
 #include "tracking/fork_join.hpp"
@@ -34,7 +37,7 @@ Eigen::Matrix3f regularize_covariance(const Eigen::Matrix3f& raw_m2,
                                       const CovarianceSetting& setting);
 
 /// Fills cloud.cov_raw_m2 and cloud.cov_m2 for every point; `tree` must index
-/// cloud.points_m. Points are split into fixed chunks over `team`.
+/// cloud.points_m. Points go to the team in fixed blocks (ForkJoin::for_each_interleaved).
 void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, ForkJoin& team,
                           GaussianCloud& cloud);
 

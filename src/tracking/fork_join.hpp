@@ -34,6 +34,19 @@ class ForkJoin {
     dispatch();
   }
 
+  /// Calls fn(i) for team member t's items of [0, n): blocks of `block` items dealt round
+  /// robin (block b goes to member b % num_threads), so uneven work spreads evenly while the
+  /// partition stays fixed.
+  template <class Fn>
+  static void for_each_interleaved(std::size_t n, int t, int num_threads, std::size_t block,
+                                   Fn&& fn) {
+    const std::size_t step = block * static_cast<std::size_t>(num_threads);
+    for (std::size_t b = block * static_cast<std::size_t>(t); b < n; b += step) {
+      const std::size_t e = b + block < n ? b + block : n;
+      for (std::size_t i = b; i < e; ++i) fn(i);
+    }
+  }
+
   /// [begin, end) of `n` items for team member t: contiguous, fixed, near-equal chunks.
   static void chunk(std::size_t n, int t, int num_threads, std::size_t& begin, std::size_t& end) {
     begin = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(num_threads);

@@ -8,9 +8,10 @@
 // points into the TARGET frame (p_t = T_t_s * p_s). For two camera frames with poses
 // T_w_0 (source) and T_w_2 (target) that is T_w_2^-1 * T_w_0.
 //
-// Determinism: each linearisation splits the source points into fixed contiguous chunks,
-// one per thread, and sums the per-thread partial H, b in thread order, so the result is
-// bit-identical run to run for the same num_threads.
+// Determinism: each linearisation deals the source points to the threads in fixed blocks of
+// 256 (round robin), each thread sums its blocks in order, and the per-thread partial H, b
+// are summed in thread order, so the result is bit-identical run to run for the same
+// num_threads.
 #include <string_view>
 #include <vector>
 
@@ -32,8 +33,12 @@ std::string_view to_string(GicpVerdict verdict);
 
 struct GicpResult {
   geometry::Pose T_t_s = geometry::Pose::Identity();  ///< source -> target
-  /// Gauss–Newton Hessian sum w J^T M J at T_t_s: the information matrix of the left
-  /// increment xi = [rotation (rad); translation (m)] in the target frame.
+  /// Gauss–Newton Hessian sum w J^T M J of the last linearisation (at T_t_s, or one
+  /// converged step before it): the information matrix of the left increment
+  /// xi = [rotation (rad); translation (m)] in the target frame. With the dimensionless
+  /// regularised covariances it is a relative information; scale it before publishing it as
+  /// a covariance. num_inliers, inlier_ratio, overlap_ratio and cost are from the same
+  /// linearisation.
   Matrix6d information = Matrix6d::Zero();
   double inlier_ratio = 0.0;   ///< source points with a correspondence / source points
   double overlap_ratio = 0.0;  ///< source points with a target point within overlap distance

@@ -28,19 +28,17 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
     part.sum_y.setZero();
     part.inliers = 0;
     part.overlapping = 0;
-    std::size_t begin = 0, end = 0;
-    ForkJoin::chunk(n, th, team_.size(), begin, end);
-    for (std::size_t i = begin; i < end; ++i) {
+    ForkJoin::for_each_interleaved(n, th, team_.size(), 256, [&](std::size_t i) {
       const Eigen::Vector3d y = R * source.points_m[i].cast<double>() + t;
       std::uint32_t j = 0;
       float d2 = 0.0f;
       if (!target.nearest(y.cast<float>(), max_sq, j, d2)) {
-        continue;
+        return;
       }
       Eigen::Matrix3d M;
       if (!gicp_information(target.cov(j).template cast<double>(), R,
                             source.cov_m2[i].cast<double>(), M)) {
-        continue;
+        return;
       }
       const Eigen::Vector3d r = target.point(j).template cast<double>() - y;
       part.cost +=
@@ -51,7 +49,7 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
       if (d2 <= overlap_sq) {
         ++part.overlapping;
       }
-    }
+    });
   });
   Linearization lin;
   for (const Partial& part : partials_) {  // fixed order: bit-identical sums
@@ -70,6 +68,10 @@ template <class Target>
 GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
                        const geometry::Pose& T_t_s_init) {
   GicpResult result;
+  result.T_t_s = T_t_s_init;
+  if (!T_t_s_init.matrix().allFinite()) {
+    return result;  // verdict stays diverged: nothing to start from
+  }
   geometry::Pose T = T_t_s_init;
   Linearization lin = linearize(target, source, T);
   double lambda = setting_.lm_lambda_init;

@@ -32,18 +32,39 @@ struct KdTree::Result {
   }
 };
 
-void KdTree::build(const std::vector<Eigen::Vector3f>& points) {
+void KdTree::build(const std::vector<Eigen::Vector3f>& points, ForkJoin* team) {
   const auto n = static_cast<std::uint32_t>(points.size());
   index_.resize(n);
   std::iota(index_.begin(), index_.end(), 0u);
-  points_.resize(n);
   slot_of_.resize(n);
   nodes_.clear();
   const std::size_t leaf = static_cast<std::size_t>(std::max(1, setting_.leaf_size));
   nodes_.reserve(2 * (n / leaf + 1) + 1);
-  points_ = points;  // sorted in place through index_ below, then gathered
-  if (n > 0) {
-    build_node(0, n);
+  points_ = points;  // read through index_ while building, then gathered into leaf order
+  if (n > 0 && (team == nullptr || team->size() < 2 || n < 4096)) {
+    build_node(nodes_, 0, n);
+  } else if (n > 0) {
+    // Root split here, then the two halves in parallel: the left one into nodes_, the
+    // right one into right_nodes_ (local ids), appended afterwards with an id offset.
+    // Each half touches only its own range of index_, so the tree is the serial one.
+    std::uint32_t mid = 0;
+    int axis = 0;
+    const float split = split_range(0, n, mid, axis);
+    nodes_.emplace_back();
+    right_nodes_.clear();
+    right_nodes_.reserve(nodes_.capacity());
+    team->run([&](int t) {
+      if (t == 0) build_node(nodes_, 0, mid);
+      if (t == 1) build_node(right_nodes_, mid, n);
+    });
+    const auto offset = static_cast<std::uint32_t>(nodes_.size());
+    for (Node node : right_nodes_) {
+      if (node.axis >= 0) node.right += offset;
+      nodes_.push_back(node);
+    }
+    nodes_[0].axis = axis;
+    nodes_[0].split = split;
+    nodes_[0].right = offset;
   }
   for (std::uint32_t s = 0; s < n; ++s) {
     points_[s] = points[index_[s]];
@@ -51,35 +72,42 @@ void KdTree::build(const std::vector<Eigen::Vector3f>& points) {
   }
 }
 
-std::uint32_t KdTree::build_node(std::uint32_t begin, std::uint32_t end) {
-  const auto id = static_cast<std::uint32_t>(nodes_.size());
-  nodes_.emplace_back();
-  if (end - begin <= static_cast<std::uint32_t>(std::max(1, setting_.leaf_size))) {
-    nodes_[id].begin = begin;
-    nodes_[id].end = end;
-    return id;
-  }
+float KdTree::split_range(std::uint32_t begin, std::uint32_t end, std::uint32_t& mid, int& axis) {
   Eigen::Array3f lo = Eigen::Array3f::Constant(std::numeric_limits<float>::infinity());
   Eigen::Array3f hi = -lo;
   for (std::uint32_t i = begin; i < end; ++i) {
     lo = lo.min(points_[index_[i]].array());
     hi = hi.max(points_[index_[i]].array());
   }
-  int axis = 0;
+  axis = 0;
   (hi - lo).maxCoeff(&axis);
-  const std::uint32_t mid = begin + (end - begin) / 2;
+  mid = begin + (end - begin) / 2;
   // Ties broken by index so the tree (and every query result) is deterministic.
+  const int a = axis;
   std::nth_element(index_.begin() + begin, index_.begin() + mid, index_.begin() + end,
-                   [this, axis](std::uint32_t a, std::uint32_t b) {
-                     const float pa = points_[a][axis], pb = points_[b][axis];
-                     return pa < pb || (pa == pb && a < b);
+                   [this, a](std::uint32_t l, std::uint32_t r) {
+                     const float pl = points_[l][a], pr = points_[r][a];
+                     return pl < pr || (pl == pr && l < r);
                    });
-  const float split = points_[index_[mid]][axis];
-  build_node(begin, mid);
-  const std::uint32_t right = build_node(mid, end);
-  nodes_[id].axis = axis;
-  nodes_[id].split = split;
-  nodes_[id].right = right;
+  return points_[index_[mid]][axis];
+}
+
+std::uint32_t KdTree::build_node(std::vector<Node>& nodes, std::uint32_t begin, std::uint32_t end) {
+  const auto id = static_cast<std::uint32_t>(nodes.size());
+  nodes.emplace_back();
+  if (end - begin <= static_cast<std::uint32_t>(std::max(1, setting_.leaf_size))) {
+    nodes[id].begin = begin;
+    nodes[id].end = end;
+    return id;
+  }
+  std::uint32_t mid = 0;
+  int axis = 0;
+  const float split = split_range(begin, end, mid, axis);
+  build_node(nodes, begin, mid);
+  const std::uint32_t right = build_node(nodes, mid, end);
+  nodes[id].axis = axis;
+  nodes[id].split = split;
+  nodes[id].right = right;
   return id;
 }
 

@@ -151,6 +151,9 @@ void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c)
   const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
   for (std::size_t i = 0; i < cloud_c.size(); ++i) {
     const Eigen::Vector3f p = R * cloud_c.points_m[i] + t;
+    if (!((p * inv_voxel_).cwiseAbs().maxCoeff() < static_cast<float>(kAxisBias - 2))) {
+      continue;  // outside the addressable grid (+-2^20 voxels) or NaN
+    }
     const std::int64_t key = key_of(p);
     std::uint32_t slot = find(key);
     if (slot == kEmpty) {
@@ -175,27 +178,50 @@ void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c)
 
 bool LocalMap::nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
                        float& sq_dist) const {
-  const auto cx = static_cast<std::int64_t>(std::floor(q_w.x() * inv_voxel_));
-  const auto cy = static_cast<std::int64_t>(std::floor(q_w.y() * inv_voxel_));
-  const auto cz = static_cast<std::int64_t>(std::floor(q_w.z() * inv_voxel_));
+  const Eigen::Vector3f g = q_w * inv_voxel_;
+  if (!(g.cwiseAbs().maxCoeff() < static_cast<float>(kAxisBias - 2))) {
+    return false;  // outside the addressable grid (or NaN)
+  }
+  const std::int64_t c[3] = {static_cast<std::int64_t>(std::floor(g.x())),
+                             static_cast<std::int64_t>(std::floor(g.y())),
+                             static_cast<std::int64_t>(std::floor(g.z()))};
+  const auto voxel = static_cast<float>(setting_.voxel_m);
+  // Squared distance from q to the lower / upper face of its voxel, per axis.
+  float lo2[3], hi2[3];
+  for (int a = 0; a < 3; ++a) {
+    const float f = (g[a] - static_cast<float>(c[a])) * voxel;
+    lo2[a] = f * f;
+    hi2[a] = (voxel - f) * (voxel - f);
+  }
   const auto P = static_cast<std::uint32_t>(setting_.points_per_voxel);
   float best = max_sq_dist;
   bool found = false;
+  const auto scan = [&](std::int64_t dx, std::int64_t dy, std::int64_t dz) {
+    const std::uint32_t slot = find(pack(c[0] + dx, c[1] + dy, c[2] + dz));
+    if (slot == kEmpty) return;
+    const std::uint32_t base = slot * P;
+    const auto n = static_cast<std::uint32_t>(voxels_[slot].count);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const float d2 = (points_w_[base + k] - q_w).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        index = base + k;
+        found = true;
+      }
+    }
+  };
+  scan(0, 0, 0);  // home voxel first: its best bound prunes most neighbours
   for (std::int64_t dx = -1; dx <= 1; ++dx) {
+    const float bx = dx < 0 ? lo2[0] : (dx > 0 ? hi2[0] : 0.0f);
+    if (bx >= best) continue;
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
+      const float by = bx + (dy < 0 ? lo2[1] : (dy > 0 ? hi2[1] : 0.0f));
+      if (by >= best) continue;
       for (std::int64_t dz = -1; dz <= 1; ++dz) {
-        const std::uint32_t slot = find(pack(cx + dx, cy + dy, cz + dz));
-        if (slot == kEmpty) continue;
-        const std::uint32_t base = slot * P;
-        const auto n = static_cast<std::uint32_t>(voxels_[slot].count);
-        for (std::uint32_t k = 0; k < n; ++k) {
-          const float d2 = (points_w_[base + k] - q_w).squaredNorm();
-          if (d2 < best) {
-            best = d2;
-            index = base + k;
-            found = true;
-          }
-        }
+        if (dx == 0 && dy == 0 && dz == 0) continue;
+        const float bz = by + (dz < 0 ? lo2[2] : (dz > 0 ? hi2[2] : 0.0f));
+        if (bz >= best) continue;  // the whole voxel is farther than the best so far
+        scan(dx, dy, dz);
       }
     }
   }

@@ -21,6 +21,8 @@
 //
 // Correspondences: nearest() scans the query's voxel and its 26 neighbours, so it is exact
 // for search radii up to voxel_m (the config requires voxel_m >= max correspondence dist).
+// World coordinates must lie within +-2^20 voxels of the origin (+-104 km at 0.1 m); points
+// beyond are not stored and queries beyond find nothing.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>

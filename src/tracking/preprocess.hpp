@@ -31,7 +31,7 @@ class FramePreprocessor {
 
   /// Covariances for points already in `cloud.points_m` (e.g. loaded from a file).
   void finish(GaussianCloud& cloud, KdTree& tree) const {
-    tree.build(cloud.points_m);
+    tree.build(cloud.points_m, team_);
     estimate_covariances(tree, setting_.covariance, *team_, cloud);
   }
 

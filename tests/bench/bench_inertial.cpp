@@ -1,8 +1,8 @@
 // bench_inertial: speed of preintegration and of the IMU-seeded initial guess, each beside a
-// naive re-integration baseline in the same run, and the drift benefit of the gyro-bias
-// estimate on an analytic synthetic trajectory with noise and bias random walk at the
-// configured densities (counters; iterations fixed at 1, so the time column means nothing
-// there). Other sources in this target must not define main (BENCHMARK_MAIN is here).
+// naive re-integration baseline in the same run. The drift benefit of the gyro-bias estimate
+// is in bench_inertial_sim.cpp (project simulator), bench_inertial_drift.cpp (analytic
+// trajectory, EuRoC V1_02): counters, iterations fixed at 1, so the time column means
+// nothing there. Other sources in this target must not define main (BENCHMARK_MAIN is here).
 #include <benchmark/benchmark.h>
 
 #include <cmath>

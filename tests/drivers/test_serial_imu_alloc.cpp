@@ -4,11 +4,13 @@
 // tries to reopen the vanished port, and stops.
 #include <gtest/gtest.h>
 #include <sys/prctl.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <string>
 
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "pty_feeder.hpp"
@@ -69,18 +71,28 @@ TEST(SerialImuDriver, ReadLoopDoesNotAllocate) {
   const std::size_t total = b.bytes().size();
 
   test::Pty pty;
+  // Through a symlink (a /dev/pts path is never reopened), moved to a dangling target before the
+  // hang-up so that reopen attempts fail instead of finding a reused pty number.
+  const std::string link = ::testing::TempDir() + "/imu_alloc_" + std::to_string(::getpid());
+  ::unlink(link.c_str());
+  ASSERT_EQ(::symlink(pty.slave_path().c_str(), link.c_str()), 0);
   rt::SpscRing<ImuSample> ring(16);  // small: the drop path runs too
   SerialImuDriverSettings s;
-  s.port = pty.slave_path();
+  s.port = link;
   s.realtime_thread = false;
+  s.pin_cpu = false;
   s.reopen_interval_ms = 10;  // reopen attempts (the pty is gone: they fail) run before stop
   SerialImuDriver driver(s, ring);
   driver.start();
   ASSERT_NE(driver.thread_status(), nullptr);
   ASSERT_EQ(driver.thread_status()->name, rt::ApplyResult::kApplied);  // named imu_driver
   {
-    test::PacedFeeder feeder(pty, b.segments(),
-                             [&] { return driver.faults().bytes_read == total; });
+    test::PacedFeeder feeder(pty, b.segments(), [&] {
+      if (driver.faults().bytes_read != total) return false;
+      const std::string dangling = link + ".unplugged";
+      return ::symlink("/nonexistent/ttyIMU", dangling.c_str()) == 0 &&
+             ::rename(dangling.c_str(), link.c_str()) == 0;
+    });
   }
   const std::int64_t deadline = rt::monotonic_ns() + rt::s_to_ns(std::int64_t{10});
   while (driver.faults().hangups == 0 && rt::monotonic_ns() < deadline) {
@@ -88,6 +100,7 @@ TEST(SerialImuDriver, ReadLoopDoesNotAllocate) {
   }
   rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(100));
   driver.stop();
+  ::unlink(link.c_str());
   const SerialImuFaults f = driver.faults();
   ASSERT_EQ(f.hangups, 1u);
   EXPECT_GT(f.packets_ok, 100u);

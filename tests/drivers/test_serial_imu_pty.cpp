@@ -25,6 +25,7 @@ SerialImuDriverSettings settings_for(const test::Pty& pty) {
   s.port = pty.slave_path();
   s.baud = 921600;
   s.realtime_thread = false;  // tests run unprivileged on a shared machine
+  s.pin_cpu = false;
   return s;
 }
 
@@ -221,8 +222,14 @@ TEST(SerialImuPty, ReopensWhenTheDeviceComesBackUnderItsName) {
   std::size_t a_bytes = 0;
   for (const auto& seg : test::clean_segments(a)) a_bytes += seg.bytes.size();
   {
-    test::PacedFeeder feeder(first, test::clean_segments(a),
-                             [&] { return driver.faults().bytes_read == a_bytes; });
+    // Unplug: the name disappears first (pty numbers are reused at once, so another process's
+    // new pty could otherwise take the old name), then the line hangs up.
+    test::PacedFeeder feeder(first, test::clean_segments(a), [&] {
+      if (driver.faults().bytes_read != a_bytes) return false;
+      const std::string dangling = link + ".unplugged";
+      return ::symlink("/nonexistent/ttyIMU", dangling.c_str()) == 0 &&
+             ::rename(dangling.c_str(), link.c_str()) == 0;
+    });
   }
   ASSERT_TRUE(wait_for([&] { return driver.faults().hangups == 1; }));
   test::Pty second;  // the device is back, under a new tty

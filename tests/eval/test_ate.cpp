@@ -117,6 +117,16 @@ TEST(Rpe, ZeroForRigidlyMovedCopyAndDetectsAScaleError) {
   EXPECT_LT(rm.translation_m.max, 1e-9);
   m.delta = 1e6;
   EXPECT_THROW(compute_rpe(gt, gt, m), std::invalid_argument);
+  // Delta in seconds: poses are 0.1 s apart, so 1.0 s is 10 frames (up to rounding of the
+  // stamps: the first pose at least 1 s later).
+  RpeOptions sec;
+  sec.unit = DeltaUnit::kSeconds;
+  sec.delta = 0.95;
+  const RpeResult rs = compute_rpe(gt, helix(0.5, T, 0.0), sec);
+  opt.align = Alignment::kNone;
+  const RpeResult rf = compute_rpe(gt, helix(0.5, T, 0.0), opt);
+  EXPECT_EQ(rs.pairs, rf.pairs);
+  EXPECT_DOUBLE_EQ(rs.translation_m.rmse, rf.translation_m.rmse);
 }
 
 }  // namespace

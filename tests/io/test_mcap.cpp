@@ -4,6 +4,7 @@
 
 #include <cstring>
 
+#include "io/byte_buffer.hpp"
 #include "io/io_error.hpp"
 #include "io/mcap/crc32.hpp"
 #include "mcap_test_util.hpp"
@@ -43,6 +44,7 @@ TEST_P(McapRoundTrip, EveryMessageAndFieldComesBack) {
 
   mcap::McapReader r(path);
   EXPECT_TRUE(r.has_summary());
+  EXPECT_EQ(r.profile(), c.encoding == Encoding::kCdr ? "ros2" : "ros1");  // before next()
   mcap::MessageView m;
   std::size_t i = 0;
   while (r.next(m)) {
@@ -122,13 +124,28 @@ TEST_P(McapRoundTrip, EveryMessageAndFieldComesBack) {
   EXPECT_EQ(test::read_all(r), written);
 }
 
+// Readable parameter names and printouts (the default prints the struct's bytes, padding
+// included, which differ between runs and end up in ctest's discovered test names).
+std::string describe(const Case& c) {
+  return std::string(c.encoding == Encoding::kCdr ? "cdr" : "ros1") +
+         (c.compression == mcap::Compression::kZstd ? "_zstd_" : "_uncompressed_") + "chunk" +
+         std::to_string(c.chunk_size);
+}
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << describe(c);
+}
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+  return describe(info.param);
+}
+
 INSTANTIATE_TEST_SUITE_P(Formats, McapRoundTrip,
                          ::testing::Values(Case{Encoding::kCdr, mcap::Compression::kZstd, 4u << 20},
                                            Case{Encoding::kCdr, mcap::Compression::kZstd, 1000},
                                            Case{Encoding::kCdr, mcap::Compression::kNone, 1000},
                                            Case{Encoding::kRos1, mcap::Compression::kZstd, 1000},
                                            Case{Encoding::kRos1, mcap::Compression::kNone,
-                                                4u << 20}));
+                                                4u << 20}),
+                         case_name);
 
 TEST(Mcap, FileStartsAndEndsWithMagicAndChecksSummaryCrc) {
   const std::string path = test::temp_path("magic.mcap");
@@ -155,6 +172,15 @@ TEST(Mcap, FileStartsAndEndsWithMagicAndChecksSummaryCrc) {
   EXPECT_EQ(mcap::crc32(std::span(bytes.data(), data_end)), data_crc);
 }
 
+TEST(Mcap, SameInputGivesByteIdenticalFiles) {  // replay and simulator determinism
+  const std::string a = test::temp_path("det_a.mcap"), b = test::temp_path("det_b.mcap");
+  mcap::McapWriterOptions options;
+  options.chunk_size_bytes = 3000;
+  test::write_all_types(a, Encoding::kCdr, 10, options);
+  test::write_all_types(b, Encoding::kCdr, 10, options);
+  EXPECT_EQ(test::load(a), test::load(b));
+}
+
 TEST(Mcap, TopicFilterSkipsOtherChannels) {
   const std::string path = test::temp_path("filter.mcap");
   mcap::McapWriterOptions options;
@@ -172,6 +198,27 @@ TEST(Mcap, TopicFilterSkipsOtherChannels) {
   EXPECT_TRUE(r.issues().empty());
   ASSERT_NE(r.find_channel("/vigs/ground_truth"), nullptr);
   EXPECT_EQ(r.find_channel("/nope"), nullptr);
+}
+
+TEST(Mcap, ChunksCloseAfterTheirTimeSpanSoSlowStreamsLoseLittleInACrash) {
+  const std::string path = test::temp_path("span.mcap");
+  mcap::McapWriterOptions options;
+  options.chunk_max_span_ns = 500'000'000;  // 0.5 s; the 4 MiB size limit is never reached
+  std::vector<std::uint8_t> buf;
+  {
+    mcap::McapWriter w(path, options);
+    const auto ch = ros_msgs::add_channel<ros_msgs::Imu>(w, "/imu");
+    for (int i = 0; i < 1000; ++i) {  // 5 s at 200 Hz
+      ros_msgs::write_message(w, ch, 5'000'000ull * i, test::sample_imu(i), buf);
+    }
+    EXPECT_EQ(w.stats().chunk_count, 9u);  // each chunk holds 0.5 s (101 samples) before closing
+    w.close();
+  }
+  mcap::McapReader r(path);
+  EXPECT_EQ(test::read_all(r).size(), 1000u);
+  ASSERT_TRUE(r.statistics().has_value());
+  EXPECT_EQ(r.statistics()->chunk_count, 10u);
+  EXPECT_TRUE(r.issues().empty());
 }
 
 TEST(Mcap, WriterRejectsUnknownIdsAndUnwritablePaths) {
@@ -198,6 +245,114 @@ TEST(Mcap, EmptyRecordingIsValid) {
   EXPECT_TRUE(r.issues().empty());
   ASSERT_TRUE(r.statistics().has_value());
   EXPECT_EQ(r.statistics()->message_count, 0u);
+}
+
+}  // namespace
+}  // namespace vigs::io
+
+namespace vigs::io {
+namespace {
+
+// Hand-built files in forms our writer never produces: Message records outside chunks, no
+// summary (footer summary_start 0), and an lz4 chunk.
+std::vector<std::uint8_t> record(mcap::Opcode op, const std::vector<std::uint8_t>& body) {
+  std::vector<std::uint8_t> out;
+  ByteWriter w(out);
+  w.put(static_cast<std::uint8_t>(op));
+  w.put<std::uint64_t>(body.size());
+  w.put_bytes(body);
+  return out;
+}
+
+std::vector<std::uint8_t> unchunked_file(bool with_lz4_chunk) {
+  std::vector<std::uint8_t> file(std::begin(mcap::kMagic), std::end(mcap::kMagic));
+  auto append = [&](const std::vector<std::uint8_t>& r) {
+    file.insert(file.end(), r.begin(), r.end());
+  };
+  std::vector<std::uint8_t> b;
+  ByteWriter w(b);
+  w.put_string("ros1");
+  w.put_string("hand-built");
+  append(record(mcap::Opcode::kHeader, b));
+  b.clear();
+  w.put<std::uint16_t>(1);
+  w.put_string("geometry_msgs/PoseStamped");
+  w.put_string("ros1msg");
+  const auto text = ros_msgs::schema_text<ros_msgs::PoseStamped>(ros_msgs::Encoding::kRos1);
+  w.put(static_cast<std::uint32_t>(text.size()));
+  w.put_bytes(text);
+  append(record(mcap::Opcode::kSchema, b));
+  b.clear();
+  w.put<std::uint16_t>(3);
+  w.put<std::uint16_t>(1);
+  w.put_string("/pose");
+  w.put_string("ros1");
+  w.put<std::uint32_t>(0);
+  append(record(mcap::Opcode::kChannel, b));
+  for (int i = 0; i < 2; ++i) {
+    if (with_lz4_chunk && i == 1) {
+      b.clear();
+      w.put<std::uint64_t>(0);
+      w.put<std::uint64_t>(0);
+      w.put<std::uint64_t>(4);
+      w.put<std::uint32_t>(0);
+      w.put_string("lz4");
+      w.put<std::uint64_t>(4);
+      w.put<std::uint32_t>(0x12345678);
+      append(record(mcap::Opcode::kChunk, b));
+    }
+    std::vector<std::uint8_t> payload;
+    ros_msgs::encode(test::sample_pose(i), ros_msgs::Encoding::kRos1, payload);
+    b.clear();
+    w.put<std::uint16_t>(3);
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(i));
+    w.put<std::uint64_t>(100u + i);
+    w.put<std::uint64_t>(90u + i);
+    w.put_bytes(payload);
+    append(record(mcap::Opcode::kMessage, b));
+  }
+  b.clear();
+  w.put(mcap::crc32(file));
+  append(record(mcap::Opcode::kDataEnd, b));
+  b.clear();
+  w.put<std::uint64_t>(0);
+  w.put<std::uint64_t>(0);
+  w.put<std::uint32_t>(0);
+  append(record(mcap::Opcode::kFooter, b));
+  file.insert(file.end(), std::begin(mcap::kMagic), std::end(mcap::kMagic));
+  return file;
+}
+
+TEST(McapForeign, UnchunkedMessagesWithoutSummaryAreRead) {
+  const std::string path = test::temp_path("unchunked.mcap");
+  test::save(path, unchunked_file(false));
+  mcap::McapReader r(path);
+  mcap::MessageView m;
+  for (int i = 0; i < 2; ++i) {
+    ASSERT_TRUE(r.next(m));
+    EXPECT_EQ(m.channel->topic, "/pose");
+    EXPECT_EQ(m.log_time_ns, 100u + i);
+    EXPECT_EQ(m.publish_time_ns, 90u + i);
+    ros_msgs::PoseStamped pose;
+    ASSERT_TRUE(ros_msgs::decode_message(m, pose));
+    EXPECT_EQ(pose, test::sample_pose(i));  // ROS 1 keeps seq
+  }
+  EXPECT_FALSE(r.next(m));
+  EXPECT_FALSE(r.has_summary());
+  EXPECT_TRUE(r.issues().empty()) << r.issues().front().message;
+  EXPECT_EQ(r.profile(), "ros1");
+  EXPECT_EQ(r.library(), "hand-built");
+}
+
+TEST(McapForeign, Lz4ChunkIsReportedAndSkipped) {
+  const std::string path = test::temp_path("lz4.mcap");
+  test::save(path, unchunked_file(true));
+  mcap::McapReader r(path);
+  const auto got = test::read_all(r);
+  EXPECT_EQ(got.size(), 2u);  // the messages around the chunk
+  ASSERT_EQ(r.issues().size(), 1u);
+  EXPECT_EQ(r.issues()[0].kind, mcap::ReadIssue::Kind::kUnsupported);
+  EXPECT_NE(r.issues()[0].message.find("lz4"), std::string::npos);
 }
 
 }  // namespace

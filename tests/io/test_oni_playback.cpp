@@ -4,9 +4,11 @@
 #include <OpenNI.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "io/io_error.hpp"
+#include "io/oni/mcap_to_oni.hpp"
 #include "io/oni/oni_clip_writer.hpp"
 #include "mcap_test_util.hpp"
 
@@ -117,6 +119,89 @@ TEST_F(OniPlayback, EveryFrameAndPixelComesBackThroughOpenNI2) {
   EXPECT_EQ(again.getFrameIndex(), 1);
   EXPECT_EQ(static_cast<const std::uint16_t*>(again.getData())[kW + 1], depth_at(0, 1, 1));
 
+  depth.stop();
+  color.stop();
+  depth.destroy();
+  color.destroy();
+  device.close();
+}
+
+TEST_F(OniPlayback, McapRecordingBecomesAClipThatOpenNI2Plays) {
+  // bgr8 colour and 32FC1 depth in metres, as a uHumans-like recording, 20 Hz stamps.
+  constexpr std::uint32_t w = 32, h = 24;
+  const std::string mcap_path = test::temp_path("rgbd.mcap");
+  const std::string oni_path = test::temp_path("rgbd.oni");
+  auto depth_m = [](int f, std::uint32_t x, std::uint32_t y) {
+    return (x == 3 && y == 4) ? std::nanf("") : 0.5f + 0.25f * f + 0.001f * (x + w * y);
+  };
+  {
+    mcap::McapWriter writer(mcap_path);
+    const auto c_rgb = ros_msgs::add_channel<ros_msgs::Image>(writer, "/cam/rgb");
+    const auto c_depth = ros_msgs::add_channel<ros_msgs::Image>(writer, "/cam/depth");
+    std::vector<std::uint8_t> buf;
+    for (int f = 0; f < 4; ++f) {
+      ros_msgs::Image rgb, depth;
+      rgb.header.stamp = ros_msgs::Time::from_ns(1'000'000'000 + 50'000'000ll * f);
+      depth.header = rgb.header;
+      rgb.width = depth.width = w;
+      rgb.height = depth.height = h;
+      rgb.encoding = "bgr8";
+      rgb.step = w * 3;
+      depth.encoding = "32FC1";
+      depth.step = w * 4;
+      for (std::uint32_t y = 0; y < h; ++y) {
+        for (std::uint32_t x = 0; x < w; ++x) {
+          for (int c = 2; c >= 0; --c) rgb.data.push_back(rgb_at(f, x, y, c));  // B G R
+          const float d = depth_m(f, x, y);
+          const auto* p = reinterpret_cast<const std::uint8_t*>(&d);
+          depth.data.insert(depth.data.end(), p, p + 4);
+        }
+      }
+      const std::uint64_t t = static_cast<std::uint64_t>(rgb.header.stamp.to_ns());
+      ros_msgs::write_message(writer, c_rgb, t, rgb, buf);
+      ros_msgs::write_message(writer, c_depth, t, depth, buf);
+    }
+    writer.close();
+  }
+  oni::McapToOniOptions options;
+  options.rgb_topic = "/cam/rgb";
+  options.depth_topic = "/cam/depth";
+  const oni::McapToOniResult result = oni::make_oni_from_mcap(mcap_path, oni_path, options);
+  EXPECT_EQ(result.frames, 4u);
+  EXPECT_EQ(result.unmatched, 0u);
+  EXPECT_EQ(result.fps, 20u);
+
+  openni::Device device;
+  ASSERT_EQ(device.open(oni_path.c_str()), openni::STATUS_OK) << openni::OpenNI::getExtendedError();
+  ASSERT_EQ(device.getPlaybackControl()->setSpeed(-1), openni::STATUS_OK);
+  openni::VideoStream depth, color;
+  ASSERT_EQ(depth.create(device, openni::SENSOR_DEPTH), openni::STATUS_OK);
+  ASSERT_EQ(color.create(device, openni::SENSOR_COLOR), openni::STATUS_OK);
+  EXPECT_EQ(depth.getVideoMode().getFps(), 20);
+  ASSERT_EQ(depth.start(), openni::STATUS_OK);
+  ASSERT_EQ(color.start(), openni::STATUS_OK);
+  for (int f = 0; f < 4; ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    openni::VideoFrameRef d, c;
+    ASSERT_TRUE(wait_for(depth));
+    ASSERT_EQ(depth.readFrame(&d), openni::STATUS_OK);
+    ASSERT_TRUE(wait_for(color));
+    ASSERT_EQ(color.readFrame(&c), openni::STATUS_OK);
+    ASSERT_EQ(d.getDataSize(), static_cast<int>(w * h * 2));
+    const auto* dp = static_cast<const std::uint16_t*>(d.getData());
+    const auto* cp = static_cast<const std::uint8_t*>(c.getData());
+    int bad = 0;
+    for (std::uint32_t y = 0; y < h; ++y) {
+      for (std::uint32_t x = 0; x < w; ++x) {
+        const float dm = depth_m(f, x, y);
+        const std::uint16_t want =
+            std::isnan(dm) ? 0 : static_cast<std::uint16_t>(std::lround(dm * 1000.0));
+        bad += dp[y * w + x] != want;
+        for (int k = 0; k < 3; ++k) bad += cp[(y * w + x) * 3 + k] != rgb_at(f, x, y, k);  // RGB
+      }
+    }
+    EXPECT_EQ(bad, 0);
+  }
   depth.stop();
   color.stop();
   depth.destroy();

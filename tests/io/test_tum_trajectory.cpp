@@ -47,9 +47,11 @@ TEST(TumTrajectory, MalformedLinesNameFileAndLine) {
   EXPECT_THROW(read_tum_trajectory(kDir + "KITTI_00_gt.txt"), IoError);
   EXPECT_THROW(read_tum_trajectory(kDir + "no_such_file.txt"), IoError);
   // Blank lines, comments, tabs, commas and CRLF are accepted.
-  const auto p = parse_tum_trajectory("  # x\n\n1,2\t3 4 5 6 7 8\r\n", "t");
-  ASSERT_EQ(p.size(), 1u);
+  const auto p = parse_tum_trajectory("  # x\n\n1,2\t3 4 5 6 7 8\r\n+1e1 -2 +3 4 5 6 7 8\n", "t");
+  ASSERT_EQ(p.size(), 2u);
   EXPECT_EQ(p[0].q_w.w(), 8.0);
+  EXPECT_EQ(p[1].t_s, 10.0);
+  EXPECT_EQ(p[1].p_w_m, Eigen::Vector3d(-2, 3, 4));
 }
 
 TEST(TumTrajectory, WriteReadIsBitExactAndAtomic) {

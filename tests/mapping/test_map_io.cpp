@@ -11,6 +11,7 @@
 #include "mapping/insertion.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/ply_io.hpp"
+#include "mapping/tracking_keyframe.hpp"
 #include "test_scene.hpp"
 
 namespace vigs::mapping {
@@ -144,6 +145,27 @@ TEST(MappingPrune, RemovesTransparentAndOversizedGaussians) {
   EXPECT_EQ(g.compact(keep), 2u);
   EXPECT_EQ(g.size(), 8u);
   EXPECT_EQ(g.mean_w[3 * 4], kept_mean);  // order preserved
+}
+
+TEST(MappingInsertion, TrackerKeyframesInsertFromTheRawCovariance) {
+  tracking::Keyframe kf;
+  kf.T_w_c.translation() = Eigen::Vector3d(0.5, 0, 0);
+  kf.cloud_c.points_m.emplace_back(0.0f, 0.0f, 0.8f);
+  // raw kNN covariance (std devs 3 cm, 2 cm, 1 mm along the axes); the regularised one differs
+  kf.cloud_c.cov_raw_m2.push_back(Eigen::Vector3f(9e-4f, 4e-4f, 1e-6f).asDiagonal());
+  kf.cloud_c.cov_m2.push_back(Eigen::Vector3f(2.25f, 1.0f, 1e-3f).asDiagonal());
+  kf.cloud_c.colors_rgb.push_back({255, 0, 51});
+  const KeyframeGaussians g = to_keyframe_gaussians(kf);
+  GaussianMap map;
+  GaussianInserter ins(InsertSettings{0.02, 0.1, 1e-5});
+  ASSERT_EQ(ins.insert(map, g), 1u);
+  const double div = 2.0 * std::pow(0.8, 1.5);  // 1.43 > 1
+  EXPECT_NEAR(std::exp(map.log_scale[0]), 0.03 / div, 1e-6);
+  EXPECT_NEAR(std::exp(map.log_scale[1]), 0.02 / div, 1e-6);
+  EXPECT_NEAR(std::exp(map.log_scale[2]), 0.001 / div, 1e-6);
+  EXPECT_NEAR(map.mean_w[0], 0.5f, 1e-6f);
+  EXPECT_NEAR(map.color_rgb[0], 1.0f, 1e-6f);
+  EXPECT_NEAR(map.color_rgb[2], 0.2f, 1e-6f);
 }
 
 }  // namespace

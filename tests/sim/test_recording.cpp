@@ -23,16 +23,45 @@ class MemorySink : public SimSink {
   void frame(std::int64_t t_ns, const PinholeCamera&, const RgbdFrame& f) override {
     frame_t.push_back(t_ns);
     last_depth = f.depth_m;
+    events.push_back({t_ns, 2});
   }
-  void imu(const ImuSample& s) override { imu_samples.push_back(s); }
+  void imu(const ImuSample& s) override {
+    imu_samples.push_back(s);
+    events.push_back({s.t_ns, 0});
+  }
   void ground_truth(std::int64_t t_ns, const geometry::Pose& T) override {
     gt_t.push_back(t_ns);
     gt.push_back(T);
+    events.push_back({t_ns, 1});
   }
+  /// (stamp, kind: 0 imu, 1 ground truth, 2 frame) in call order.
+  std::vector<std::pair<std::int64_t, int>> events;
   std::vector<std::int64_t> frame_t, gt_t;
   std::vector<ImuSample> imu_samples;
   std::vector<geometry::Pose> gt;
   std::vector<float> last_depth;
+};
+
+/// Passes every call on to two sinks.
+class TeeSink : public SimSink {
+ public:
+  TeeSink(SimSink& x, SimSink& y) : x_(x), y_(y) {}
+  void frame(std::int64_t t, const PinholeCamera& c, const RgbdFrame& f) override {
+    x_.frame(t, c, f);
+    y_.frame(t, c, f);
+  }
+  void imu(const ImuSample& s) override {
+    x_.imu(s);
+    y_.imu(s);
+  }
+  void ground_truth(std::int64_t t, const geometry::Pose& T) override {
+    x_.ground_truth(t, T);
+    y_.ground_truth(t, T);
+  }
+
+ private:
+  SimSink& x_;
+  SimSink& y_;
 };
 
 config::RobotConfig one_second() {
@@ -58,6 +87,11 @@ TEST(Simulator, StreamsAtTheConfiguredRatesInTimeOrderAndDeterministically) {
     EXPECT_EQ(std::memcmp(&a.imu_samples[i], &b.imu_samples[i], sizeof(ImuSample)), 0);
   }
   EXPECT_EQ(a.last_depth, b.last_depth);
+  // Time order; at equal stamps IMU, then ground truth, then the frame.
+  ASSERT_EQ(a.events.size(), 21u + 2u * 201u);
+  for (std::size_t i = 1; i < a.events.size(); ++i) {
+    EXPECT_LT(a.events[i - 1], a.events[i]) << i;
+  }
   EXPECT_TRUE(a.gt[100].isApprox(sim.body_pose(0.5), 1e-12));
 }
 
@@ -68,19 +102,7 @@ TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
   McapSinkOptions opt;
   McapSink sink(path, opt);
   MemorySink mem;
-  struct Tee : SimSink {
-    SimSink* x;
-    SimSink* y;
-    void frame(std::int64_t t, const PinholeCamera& c, const RgbdFrame& f) override {
-      x->frame(t, c, f), y->frame(t, c, f);
-    }
-    void imu(const ImuSample& s) override { x->imu(s), y->imu(s); }
-    void ground_truth(std::int64_t t, const geometry::Pose& T) override {
-      x->ground_truth(t, T), y->ground_truth(t, T);
-    }
-  } tee;
-  tee.x = &sink;
-  tee.y = &mem;
+  TeeSink tee(sink, mem);
   sim.run(tee);
   sink.close();
 
@@ -119,6 +141,40 @@ TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
   EXPECT_EQ(pose.header.stamp.to_ns(), 1'000'000'000);
   EXPECT_DOUBLE_EQ(pose.pose.position.x, mem.gt.back().translation().x());
   EXPECT_DOUBLE_EQ(imu.angular_velocity.z, mem.imu_samples.back().gyro_rps[2]);
+  std::remove(path.c_str());
+}
+
+TEST(Simulator, GrayAnd32FC1DepthThroughTheMcapSink) {
+  const std::string path =
+      ::testing::TempDir() + "vigs_sim_gray_" + std::to_string(getpid()) + ".mcap";
+  config::RobotConfig cfg = one_second();
+  cfg.sim.seconds = 0.1;
+  cfg.sim.gray = true;
+  Simulator sim(cfg);
+  McapSinkOptions opt;
+  opt.depth_encoding = "32FC1";
+  McapSink sink(path, opt);
+  MemorySink mem;
+  TeeSink tee(sink, mem);
+  sim.run(tee);
+  sink.close();
+  io::mcap::McapReader reader(path);
+  io::mcap::MessageView m;
+  io::ros_msgs::Image rgb, depth;
+  while (reader.next(m)) {
+    bool ok = true;
+    if (m.channel->topic == "/vigs/rgb") ok = io::ros_msgs::decode_message(m, rgb);
+    if (m.channel->topic == "/vigs/depth") ok = io::ros_msgs::decode_message(m, depth);
+    ASSERT_TRUE(ok) << m.channel->topic;
+  }
+  EXPECT_EQ(rgb.encoding, "mono8");
+  EXPECT_EQ(rgb.step, 720u);
+  EXPECT_EQ(rgb.data.size(), 720u * 480u);
+  EXPECT_EQ(depth.encoding, "32FC1");
+  ASSERT_EQ(depth.data.size(), 720u * 480u * 4u);
+  std::vector<float> metres(720 * 480);
+  std::memcpy(metres.data(), depth.data.data(), depth.data.size());
+  EXPECT_EQ(metres, mem.last_depth);  // bit-exact
   std::remove(path.c_str());
 }
 

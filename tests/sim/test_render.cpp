@@ -153,6 +153,25 @@ TEST(Render, DeterministicForASeedAndIndependentOfThreadCount) {
   EXPECT_NE(fa.color, fo.color);
 }
 
+TEST(Render, CameraKeepsClearOfWallsFurnitureAndPeopleAlongTheWholeRoute) {
+  for (const char* preset : {"office", "apartment"}) {
+    config::RobotConfig cfg = test_config(60, 2);
+    cfg.sim.preset = preset;
+    cfg.sim.seconds = 0.0;  // whole route
+    Simulator sim(cfg);
+    float min_static = 1e9f, min_people = 1e9f;
+    for (double t = 0.0; t <= sim.duration_s(); t += 0.25) {
+      const Eigen::Vector3d c = sim.camera_pose(t).translation();
+      const Vec3f p{static_cast<float>(c.x()), static_cast<float>(c.y()),
+                    static_cast<float>(c.z())};
+      min_static = std::min(min_static, sim.renderer().distance_to_static_surface(p));
+      min_people = std::min(min_people, PeopleSnapshot(sim.walkers(), t).distance_to_surface(p));
+    }
+    EXPECT_GT(min_static, 0.5f) << preset;  // measured 1.03 m (office), 0.63 m (apartment)
+    EXPECT_GT(min_people, 0.1f) << preset;  // measured 0.41 m, 0.155 m: nobody walks into it
+  }
+}
+
 TEST(Render, GrayOptionGivesMono8) {
   config::RobotConfig cfg = test_config(0, 1);
   cfg.sim.gray = true;

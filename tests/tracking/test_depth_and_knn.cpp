@@ -107,6 +107,28 @@ TEST(KdTree, MatchesBruteForce) {
   }
 }
 
+TEST(KdTree, ParallelBuildGivesTheSameTree) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+  std::vector<Eigen::Vector3f> pts(20000);
+  for (auto& p : pts) p = Eigen::Vector3f(u(rng), u(rng), u(rng));
+  KdTree serial, parallel;
+  ForkJoin team(2);
+  serial.build(pts);
+  parallel.build(pts, &team);
+  ASSERT_EQ(serial.leaf_order(), parallel.leaf_order());
+  for (int q = 0; q < 500; ++q) {
+    const Eigen::Vector3f query = pts[static_cast<std::size_t>(q) * 37];
+    std::uint32_t ia[10], ib[10];
+    float da[10], db[10];
+    ASSERT_EQ(serial.knn(query, 10, ia, da), parallel.knn(query, 10, ib, db));
+    for (int j = 0; j < 10; ++j) {
+      EXPECT_EQ(ia[j], ib[j]);
+      EXPECT_EQ(da[j], db[j]);
+    }
+  }
+}
+
 TEST(Covariance, RegularisationModes) {
   // A flat, elongated neighbourhood: eigenvalues 4, 1, 0.0001 (m^2) along x, y, z.
   const Eigen::Matrix3f raw = Eigen::Vector3f(4.0f, 1.0f, 1e-4f).asDiagonal();

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "synthetic_scene.hpp"
 #include "tracking/covariance.hpp"
@@ -140,6 +141,55 @@ TEST(Gicp, BitIdenticalRunToRunWithTwoThreads) {
   EXPECT_EQ(ra.iterations, rb.iterations);
 }
 
+TEST(Gicp, OneAndTwoThreadsAgree) {
+  const auto pts = test::room_scene(4000);
+  const geometry::Pose T =
+      geometry::make_pose(Eigen::Vector3d(0.03, 0.01, -0.02), Eigen::Vector3d(0.05, 0.02, -0.04));
+  Prepared target, source;
+  prepare(pts, target);
+  prepare(transformed(pts, T), source);
+  Gicp::Setting s;
+  s.num_threads = 1;
+  Gicp one(s);
+  s.num_threads = 2;
+  Gicp two(s);
+  const CloudTarget tgt{&target.cloud, &target.tree};
+  const GicpResult r1 = one.align(tgt, source.cloud, geometry::Pose::Identity());
+  const GicpResult r2 = two.align(tgt, source.cloud, geometry::Pose::Identity());
+  const geometry::PoseError e = geometry::pose_error(r1.T_t_s, r2.T_t_s);
+  EXPECT_LT(e.translation_m, 1e-9);
+  EXPECT_LT(e.rotation_rad, 1e-9);
+  EXPECT_EQ(r1.num_inliers, r2.num_inliers);
+}
+
+TEST(ForkJoin, EveryMemberRunsOnceOnItsFixedChunk) {
+  ForkJoin team(2);
+  std::vector<int> hits(1001, 0);
+  for (int round = 0; round < 500; ++round) {
+    team.run([&](int t) {
+      std::size_t begin = 0, end = 0;
+      ForkJoin::chunk(hits.size(), t, team.size(), begin, end);
+      for (std::size_t i = begin; i < end; ++i) ++hits[i];
+    });
+  }
+  for (const int h : hits) ASSERT_EQ(h, 500);
+  std::vector<int> owner(1001, -1);
+  team.run([&](int t) {
+    ForkJoin::for_each_interleaved(owner.size(), t, team.size(), 64, [&](std::size_t i) {
+      owner[i] = owner[i] == -1 ? t : 99;  // 99: visited twice
+    });
+  });
+  for (std::size_t i = 0; i < owner.size(); ++i) {
+    ASSERT_EQ(owner[i], static_cast<int>((i / 64) % 2)) << i;
+  }
+  std::size_t b0 = 0, e0 = 0, b1 = 0, e1 = 0;
+  ForkJoin::chunk(1001, 0, 2, b0, e0);
+  ForkJoin::chunk(1001, 1, 2, b1, e1);
+  EXPECT_EQ(b0, 0u);
+  EXPECT_EQ(e0, b1);
+  EXPECT_EQ(e1, 1001u);
+}
+
 TEST(Gicp, SinglePlaneIsDegenerate) {
   const auto pts = test::plane_scene(4000);
   const geometry::Pose T =
@@ -178,6 +228,10 @@ TEST(Gicp, EmptySourceIsDivergedNotACrash) {
                                   geometry::Pose::Identity());
   EXPECT_EQ(r.verdict, GicpVerdict::diverged);
   EXPECT_EQ(r.inlier_ratio, 0.0);
+  geometry::Pose nan_guess = geometry::Pose::Identity();
+  nan_guess.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(gicp.align(CloudTarget{&target.cloud, &target.tree}, target.cloud, nan_guess).verdict,
+            GicpVerdict::diverged);
 }
 
 }  // namespace

@@ -24,7 +24,8 @@ struct ImuSettings {
     v.field("driver", driver, {"serial", "replay"}, "IMU source");
     v.field("port", port, {}, "serial device path");
     v.field("baud", baud, {"bit/s", 1200, 4000000, "line rate; non-standard rates use BOTHER"});
-    v.field("protocol", protocol, {"xsens_mt"}, "wire protocol parser");
+    v.field("protocol", protocol, {},
+            "wire protocol parser; any registered protocol (vigs config check lists them)");
     v.field("rate_hz", rate_hz, {"Hz", 10.0, 4000.0, "nominal sample rate"});
     v.field("gyro_noise_density", gyro_noise_density,
             {"rad/s/sqrt(Hz)", 0.0, 1.0, "gyroscope white noise density"});

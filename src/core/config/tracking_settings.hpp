@@ -65,8 +65,9 @@ struct TrackingSettings {
             {"deg", 0.0, 10.0, "convergence: rotation increment below this"});
     v.field("translation_eps_m", translation_eps_m,
             {"m", 0.0, 1.0, "convergence: translation increment below this"});
-    v.field("num_threads", num_threads,
-            {"-", 1, 64, "GICP worker threads (deterministic fixed-partition reduction)"});
+    v.field(
+        "num_threads", num_threads,
+        {"-", 1, 64, "tracking threads: preprocessing and GICP (fixed partition, bit-identical)"});
     v.field("keyframe_overlap_ratio", keyframe_overlap_ratio,
             {"-", 0.0, 1.0, "new keyframe when the overlap with the map falls below this"});
     v.field("keyframe_overlap_distance_m", keyframe_overlap_distance_m,

@@ -289,3 +289,33 @@ RobotConfig load_config_file(const std::string& path) {
 }
 
 }  // namespace vigs::config
+
+namespace vigs::config {
+
+Diagnostic diagnose_key(const std::string& path, const std::string& dotted_key,
+                        std::string message) {
+  Diagnostic d{path, 0, 0, dotted_key, std::move(message)};
+  try {
+    YAML::Node node = YAML::LoadFile(path);
+    std::size_t start = 0;
+    while (node.IsDefined() && node.IsMap()) {
+      const std::size_t dot = dotted_key.find('.', start);
+      const std::string part = dotted_key.substr(start, dot - start);
+      const YAML::Node& parent = node;
+      YAML::Node child = parent[part];
+      if (!child.IsDefined()) break;
+      if (dot == std::string::npos) {
+        d.line = child.Mark().line + 1;
+        d.column = child.Mark().column + 1;
+        break;
+      }
+      node.reset(child);
+      start = dot + 1;
+    }
+  } catch (const YAML::Exception&) {
+    // The file loaded once already; without a location the diagnostic still names file and key.
+  }
+  return d;
+}
+
+}  // namespace vigs::config

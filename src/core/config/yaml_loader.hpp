@@ -2,6 +2,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/config/diagnostics.hpp"
 #include "core/config/robot_config.hpp"
 
 namespace vigs::config {
@@ -14,5 +15,14 @@ RobotConfig load_config_text(std::string_view yaml_text, const std::string& file
 
 /// Reads `path` and loads it; an unreadable file is a ConfigError naming the path.
 RobotConfig load_config_file(const std::string& path);
+
+}  // namespace vigs::config
+
+namespace vigs::config {
+
+/// A diagnostic for a rule checked outside the schema (e.g. `imu.protocol` against the parsers
+/// linked into the binary), located at `dotted_key`'s line in `path` when the key is there.
+Diagnostic diagnose_key(const std::string& path, const std::string& dotted_key,
+                        std::string message);
 
 }  // namespace vigs::config

@@ -63,14 +63,14 @@ class McapReader {
   /// Statistics from the summary, if present and intact.
   const std::optional<Statistics>& statistics() const;
   /// Every schema and channel known so far (from the summary, else as found while reading).
-  const std::vector<const Schema*> schemas() const;
-  const std::vector<const Channel*> channels() const;
+  std::vector<const Schema*> schemas() const;
+  std::vector<const Channel*> channels() const;
   const Channel* find_channel(const std::string& topic) const;
 
   /// Problems found so far. After next() returned false the list is complete: an empty list
   /// then means the whole file checked out (magic, framing, all CRCs, footer).
   const std::vector<ReadIssue>& issues() const;
-  /// Header profile and library strings ("" until/unless read).
+  /// Header profile and library strings ("" if the Header record is missing or damaged).
   const std::string& profile() const;
   const std::string& library() const;
   const std::string& path() const;

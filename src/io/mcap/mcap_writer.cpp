@@ -281,7 +281,11 @@ void McapWriter::write(std::uint16_t channel_id, std::uint64_t log_time_ns,
   m.channel_counts[i]++;
   m.stats.message_count++;
   m.stats.bytes_uncompressed += 1 + 8 + 22 + data.size();
-  if (m.chunk.size() >= m.options.chunk_size_bytes) m.write_chunk();
+  if (m.chunk.size() >= m.options.chunk_size_bytes ||
+      (m.options.chunk_max_span_ns != 0 &&
+       m.chunk_end_time - m.chunk_start_time >= m.options.chunk_max_span_ns)) {
+    m.write_chunk();
+  }
 }
 
 void McapWriter::flush() {

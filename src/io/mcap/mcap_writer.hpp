@@ -17,6 +17,9 @@ enum class Compression : std::uint8_t { kNone = 0, kZstd = 1 };
 struct McapWriterOptions {
   /// A chunk is compressed and written once its uncompressed records reach this size, bytes.
   std::size_t chunk_size_bytes = 4u << 20;
+  /// A chunk is also written once its messages span this much log time, ns (0 = no limit). This
+  /// bounds what a crash can lose on slow streams (an IMU alone fills 4 MiB in about a minute).
+  std::uint64_t chunk_max_span_ns = 1'000'000'000;
   Compression compression = Compression::kZstd;
   int zstd_level = 3;  ///< 1 (fast) .. 19 (small)
   /// Header profile ("ros2" for CDR/ros2msg files, "ros1" for ros1 files, "" for none).

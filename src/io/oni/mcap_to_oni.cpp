@@ -1,0 +1,164 @@
+#include "io/oni/mcap_to_oni.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <vector>
+
+#include "io/io_error.hpp"
+#include "io/mcap/mcap_reader.hpp"
+#include "io/oni/oni_clip_writer.hpp"
+#include "io/ros_msgs/image.hpp"
+#include "io/ros_msgs/typed_io.hpp"
+
+namespace vigs::io::oni {
+namespace {
+
+struct Frame {
+  std::vector<std::uint8_t> rgb;
+  std::vector<std::uint16_t> depth_mm;
+  bool has_rgb = false, has_depth = false;
+};
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw IoError("MCAP to ONI: " + path + ": " + what);
+}
+
+std::vector<std::uint8_t> to_rgb(const ros_msgs::Image& img, const std::string& path) {
+  const bool mono = img.encoding == "mono8";
+  const std::size_t bpp = mono ? 1 : 3;
+  if (!mono && img.encoding != "rgb8" && img.encoding != "bgr8") {
+    fail(path, "colour encoding '" + img.encoding + "' (expected rgb8, bgr8 or mono8)");
+  }
+  if (std::size_t{img.step} < img.width * bpp ||
+      img.data.size() < std::size_t{img.step} * img.height) {
+    fail(path, "colour image data shorter than step x height");
+  }
+  std::vector<std::uint8_t> rgb(std::size_t{img.width} * img.height * 3);
+  for (std::uint32_t y = 0; y < img.height; ++y) {
+    const std::uint8_t* row = img.data.data() + std::size_t{y} * img.step;
+    for (std::uint32_t x = 0; x < img.width; ++x) {
+      std::uint8_t* out = &rgb[(std::size_t{y} * img.width + x) * 3];
+      if (mono) {
+        out[0] = out[1] = out[2] = row[x];
+      } else if (img.encoding == "bgr8") {
+        out[0] = row[3 * x + 2];
+        out[1] = row[3 * x + 1];
+        out[2] = row[3 * x];
+      } else {
+        std::memcpy(out, row + 3 * x, 3);
+      }
+    }
+  }
+  return rgb;
+}
+
+std::vector<std::uint16_t> to_depth_mm(const ros_msgs::Image& img, const std::string& path) {
+  const bool mm = img.encoding == "16UC1" || img.encoding == "mono16";
+  const bool metres = img.encoding == "32FC1";
+  if (!mm && !metres) {
+    fail(path, "depth encoding '" + img.encoding + "' (expected 16UC1 in mm or 32FC1 in m)");
+  }
+  if (img.is_bigendian != 0) fail(path, "big-endian depth images are not supported");
+  const std::size_t bpp = mm ? 2 : 4;
+  if (std::size_t{img.step} < img.width * bpp ||
+      img.data.size() < std::size_t{img.step} * img.height) {
+    fail(path, "depth image data shorter than step x height");
+  }
+  std::vector<std::uint16_t> depth(std::size_t{img.width} * img.height);
+  for (std::uint32_t y = 0; y < img.height; ++y) {
+    const std::uint8_t* row = img.data.data() + std::size_t{y} * img.step;
+    for (std::uint32_t x = 0; x < img.width; ++x) {
+      std::uint16_t& out = depth[std::size_t{y} * img.width + x];
+      if (mm) {
+        std::memcpy(&out, row + 2 * x, 2);
+      } else {
+        float d_m = 0;
+        std::memcpy(&d_m, row + 4 * x, 4);
+        const double d_mm = std::round(static_cast<double>(d_m) * 1000.0);
+        out =
+            std::isfinite(d_mm) && d_mm > 0 && d_mm <= 65535 ? static_cast<std::uint16_t>(d_mm) : 0;
+      }
+    }
+  }
+  return depth;
+}
+
+}  // namespace
+
+McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::string& oni_path,
+                                   const McapToOniOptions& options) {
+  mcap::McapReaderOptions ro;
+  ro.topics = {options.rgb_topic, options.depth_topic};
+  mcap::McapReader reader(mcap_path, ro);
+  std::map<std::int64_t, Frame> frames;  // by header stamp, ns
+  McapToOniResult result;
+  mcap::MessageView m;
+  ros_msgs::Image img;
+  std::size_t complete = 0;
+  while (complete < options.max_frames && reader.next(m)) {
+    try {
+      if (!ros_msgs::decode_message(m, img)) fail(mcap_path, m.channel->topic + " is not an Image");
+    } catch (const ros_msgs::DecodeError& e) {
+      fail(mcap_path, e.what());
+    }
+    if (img.width == 0 || img.height == 0 ||
+        std::uint64_t{img.width} * img.height > 1600ull * 1200ull) {
+      fail(mcap_path, "image of " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                          " on " + m.channel->topic + " (ONI clips hold at most 1600x1200)");
+    }
+    if (result.width == 0) {
+      result.width = img.width;
+      result.height = img.height;
+    }
+    if (img.width != result.width || img.height != result.height) {
+      fail(mcap_path, "image sizes differ (" + std::to_string(img.width) + "x" +
+                          std::to_string(img.height) + " on " + m.channel->topic + ")");
+    }
+    Frame& f = frames[img.header.stamp.to_ns()];
+    if (m.channel->topic == options.rgb_topic && !f.has_rgb) {
+      f.rgb = to_rgb(img, mcap_path);
+      f.has_rgb = true;
+    } else if (m.channel->topic == options.depth_topic && !f.has_depth) {
+      f.depth_mm = to_depth_mm(img, mcap_path);
+      f.has_depth = true;
+    } else {
+      continue;
+    }
+    complete += f.has_rgb && f.has_depth;
+  }
+  std::vector<std::int64_t> stamps;
+  for (const auto& [t, f] : frames) {
+    if (f.has_rgb && f.has_depth) {
+      stamps.push_back(t);
+    } else {
+      ++result.unmatched;
+    }
+  }
+  if (stamps.empty()) {
+    fail(mcap_path, "no colour/depth pairs with equal stamps on " + options.rgb_topic + " and " +
+                        options.depth_topic);
+  }
+  result.fps = options.fps;
+  if (result.fps == 0) {
+    std::vector<std::int64_t> dt;
+    for (std::size_t i = 1; i < stamps.size(); ++i) dt.push_back(stamps[i] - stamps[i - 1]);
+    std::nth_element(dt.begin(), dt.begin() + static_cast<long>(dt.size() / 2), dt.end());
+    result.fps =
+        dt.empty() || dt[dt.size() / 2] <= 0
+            ? 30
+            : static_cast<std::uint32_t>(std::max(1.0, std::round(1e9 / dt[dt.size() / 2])));
+  }
+  OniClipWriter writer(oni_path, {result.width, result.height, result.fps});
+  for (const std::int64_t t : stamps) {
+    auto it = frames.find(t);
+    writer.add_frame(it->second.depth_mm, it->second.rgb);
+    frames.erase(it);  // the writer holds its own copy: keep memory near one clip
+  }
+  writer.close();
+  result.frames = stamps.size();
+  return result;
+}
+
+}  // namespace vigs::io::oni

@@ -1,0 +1,31 @@
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace vigs::io::oni {
+
+struct McapToOniOptions {
+  std::string rgb_topic = "/tesse/left_cam/rgb/image_raw";      ///< rgb8, bgr8 or mono8 Image
+  std::string depth_topic = "/tesse/depth_cam/mono/image_raw";  ///< 16UC1 (mm) or 32FC1 (m)
+  std::size_t max_frames = 100;  ///< clips are held in memory; 720x480 is 1.7 MB a frame
+  std::uint32_t fps = 0;         ///< 0 = from the median spacing of the frame stamps
+};
+
+/// What make_oni_from_mcap did.
+struct McapToOniResult {
+  std::size_t frames = 0;     ///< frame pairs written
+  std::size_t unmatched = 0;  ///< colour or depth images without a partner of equal stamp
+  std::uint32_t fps = 0;      ///< fps recorded in the clip
+  std::uint32_t width = 0, height = 0;
+};
+
+/// Turns the colour and depth images of an MCAP recording (cdr or ros1) into an `.oni` clip that
+/// OpenNI2 plays back, so the OpenNI2 driver can run on simulated or uHumans data. Images are
+/// paired by equal header stamps. Depth 32FC1 (m) becomes mm (rounded; NaN, inf, <= 0 and
+/// > 65.535 m become 0 = no depth); bgr8 is swapped to RGB; mono8 is replicated. Throws IoError
+/// (no pairs, sizes that differ, unsupported encodings, unreadable files).
+McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::string& oni_path,
+                                   const McapToOniOptions& options = {});
+
+}  // namespace vigs::io::oni

@@ -1,0 +1,24 @@
+#pragma once
+// Adapter from the tracker's keyframe (tracking/gaussian_cloud.hpp, a plain data header) to the
+// mapper's insertion input. The RAW kNN covariances are used, as GS-ICP SLAM does: scales from
+// the square roots of their eigenvalues (then divided by max(1, 2 z^1.5) at insertion), rotation
+// from their eigenvectors. Header-only, so vigs_mapping does not link the tracking library.
+#include "mapping/keyframe_gaussians.hpp"
+#include "tracking/gaussian_cloud.hpp"
+
+namespace vigs::mapping {
+
+/// Copies (allocates): call on the mapper side, not on the tracker thread.
+inline KeyframeGaussians to_keyframe_gaussians(const tracking::Keyframe& kf) {
+  KeyframeGaussians out;
+  out.T_w_c = kf.T_w_c;
+  const tracking::GaussianCloud& c = kf.cloud_c;
+  out.points_c = c.points_m;
+  out.covariances_c = c.cov_raw_m2;
+  out.colors.reserve(c.size());
+  for (const auto& rgb : c.colors_rgb)
+    out.colors.emplace_back(rgb[0] / 255.0f, rgb[1] / 255.0f, rgb[2] / 255.0f);
+  return out;
+}
+
+}  // namespace vigs::mapping
