@@ -21,6 +21,7 @@
 #include "inertial/euroc_csv.hpp"
 #include "inertial/inertial_frontend.hpp"
 #include "inertial/synthetic_motion.hpp"
+#include "tests/bench/drift_stats.hpp"
 
 namespace {
 
@@ -85,8 +86,7 @@ void BM_GyroBiasDrift(benchmark::State& state) {
   const double duration_s = 60.0, warmup_s = 5.0;
   const SimImu sim = simulate_imu(motion, imu, duration_s + 2.0, 42);
 
-  double g_rot = 0, g_pos = 0, d_rot = 0, d_pos = 0, b_err = 0;
-  int n_guess = 0, n_drift = 0;
+  vigs::bench::DriftStats stats;
   for (auto _ : state) {
     std::mt19937 rng(7);
     std::normal_distribution<double> n01(0.0, 1.0);
@@ -106,11 +106,9 @@ void BM_GyroBiasDrift(benchmark::State& state) {
       const bool scored = t > static_cast<std::int64_t>(warmup_s * 1e9);
       if (guess && scored) {
         const auto e = vigs::geometry::pose_error(*guess, truth);
-        g_rot += e.rotation_rad * e.rotation_rad;
-        g_pos += e.translation_m * e.translation_m;
-        ++n_guess;
+        stats.add_guess(e);
         const auto k = static_cast<std::size_t>(t / 5'000'000);
-        b_err += (f.bias_gyro_rps() - sim.gyro_bias[k]).squaredNorm();
+        stats.add_bias_error_sq((f.bias_gyro_rps() - sim.gyro_bias[k]).squaredNorm());
       }
       Pose tracked = truth;
       tracked.linear() = truth.linear() * vigs::geometry::so3_exp<double>(Vector3d(
@@ -126,19 +124,12 @@ void BM_GyroBiasDrift(benchmark::State& state) {
         feed(outage, idx, t_end);
         if (const auto p = outage.predict_camera_pose(t_end)) {
           const auto e = vigs::geometry::pose_error(*p, truth_camera(motion, opts.T_b_c, t_end));
-          d_rot += e.rotation_rad * e.rotation_rad;
-          d_pos += e.translation_m * e.translation_m;
-          ++n_drift;
+          stats.add_drift(e);
         }
       }
     }
   }
-  const double deg = 180.0 / M_PI;
-  state.counters["guess_rot_rms_deg"] = deg * std::sqrt(g_rot / n_guess);
-  state.counters["guess_pos_rms_m"] = std::sqrt(g_pos / n_guess);
-  state.counters["drift1s_rot_rms_deg"] = deg * std::sqrt(d_rot / n_drift);
-  state.counters["drift1s_pos_rms_m"] = std::sqrt(d_pos / n_drift);
-  state.counters["bias_err_rms_rps"] = std::sqrt(b_err / n_guess);
+  stats.report(state, /*guess_position=*/true, /*bias=*/true);
   state.SetLabel(estimate ? "gyro-bias estimate on" : "off (baseline)");
 }
 BENCHMARK(BM_GyroBiasDrift)
@@ -185,8 +176,7 @@ void BM_GyroBiasDriftEurocV102(benchmark::State& state) {
     T.translation() = g.p_w_b_m;
     return T * opts.T_b_c;
   };
-  double g_rot = 0, d_rot = 0, d_pos = 0;
-  int n_guess = 0, n_drift = 0;
+  vigs::bench::DriftStats stats;
   Vector3d final_err = Vector3d::Zero();
   for (auto _ : state) {
     InertialFrontend f(opts);
@@ -203,8 +193,7 @@ void BM_GyroBiasDriftEurocV102(benchmark::State& state) {
       const bool scored = t - t_first > 5'000'000'000;
       if (guess && scored) {
         const auto e = vigs::geometry::pose_error(*guess, T_w_c(gt[k]));
-        g_rot += e.rotation_rad * e.rotation_rad;
-        ++n_guess;
+        stats.add_guess(e);
       }
       f.reset_from_tracked(t, T_w_c(gt[k]));
       final_err = f.bias_gyro_rps() - gt[k].bias_gyro_rps;
@@ -215,17 +204,12 @@ void BM_GyroBiasDriftEurocV102(benchmark::State& state) {
         feed(outage, idx, end.t_ns);
         if (const auto p = outage.predict_camera_pose(end.t_ns)) {
           const auto e = vigs::geometry::pose_error(*p, T_w_c(end));
-          d_rot += e.rotation_rad * e.rotation_rad;
-          d_pos += e.translation_m * e.translation_m;
-          ++n_drift;
+          stats.add_drift(e);
         }
       }
     }
   }
-  const double deg = 180.0 / M_PI;
-  state.counters["guess_rot_rms_deg"] = deg * std::sqrt(g_rot / n_guess);
-  state.counters["drift1s_rot_rms_deg"] = deg * std::sqrt(d_rot / n_drift);
-  state.counters["drift1s_pos_rms_m"] = std::sqrt(d_pos / n_drift);
+  stats.report(state, /*guess_position=*/false, /*bias=*/false);
   state.counters["bias_err_final_rps"] = final_err.norm();
   state.SetLabel(estimate ? "gyro-bias estimate on" : "off (baseline)");
 }

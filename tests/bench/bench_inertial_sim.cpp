@@ -17,6 +17,7 @@
 #include "inertial/inertial_frontend.hpp"
 #include "sim/imu_synth.hpp"
 #include "sim/simulator.hpp"
+#include "tests/bench/drift_stats.hpp"
 
 namespace {
 
@@ -53,8 +54,7 @@ void BM_GyroBiasDriftSimulator(benchmark::State& state) {
   }
   const auto frame_ns = static_cast<std::int64_t>(std::llround(1e9 / cfg.camera.rate_hz));
   const double warmup_s = 5.0;
-  double g_rot = 0, g_pos = 0, d_rot = 0, d_pos = 0, b_err = 0;
-  int n_guess = 0, n_drift = 0;
+  vigs::bench::DriftStats stats;
   for (auto _ : state) {
     std::mt19937 rng(7);
     std::normal_distribution<double> n01(0.0, 1.0);
@@ -73,11 +73,10 @@ void BM_GyroBiasDriftSimulator(benchmark::State& state) {
       const bool scored = t > static_cast<std::int64_t>(warmup_s * 1e9);
       if (guess && scored) {
         const auto e = vigs::geometry::pose_error(*guess, truth);
-        g_rot += e.rotation_rad * e.rotation_rad;
-        g_pos += e.translation_m * e.translation_m;
-        b_err += (f.bias_gyro_rps() - true_bias[static_cast<std::size_t>(t / imu_period_ns)])
-                     .squaredNorm();
-        ++n_guess;
+        stats.add_guess(e);
+        stats.add_bias_error_sq(
+            (f.bias_gyro_rps() - true_bias[static_cast<std::size_t>(t / imu_period_ns)])
+                .squaredNorm());
       }
       Pose tracked = truth;
       tracked.linear() = truth.linear() * vigs::geometry::so3_exp<double>(Vector3d(
@@ -93,19 +92,12 @@ void BM_GyroBiasDriftSimulator(benchmark::State& state) {
         if (const auto p = outage.predict_camera_pose(t_end)) {
           const auto e =
               vigs::geometry::pose_error(*p, sim.camera_pose(1e-9 * static_cast<double>(t_end)));
-          d_rot += e.rotation_rad * e.rotation_rad;
-          d_pos += e.translation_m * e.translation_m;
-          ++n_drift;
+          stats.add_drift(e);
         }
       }
     }
   }
-  const double deg = 180.0 / M_PI;
-  state.counters["guess_rot_rms_deg"] = deg * std::sqrt(g_rot / n_guess);
-  state.counters["guess_pos_rms_m"] = std::sqrt(g_pos / n_guess);
-  state.counters["drift1s_rot_rms_deg"] = deg * std::sqrt(d_rot / n_drift);
-  state.counters["drift1s_pos_rms_m"] = std::sqrt(d_pos / n_drift);
-  state.counters["bias_err_rms_rps"] = std::sqrt(b_err / n_guess);
+  stats.report(state, /*guess_position=*/true, /*bias=*/true);
   state.SetLabel(estimate ? "gyro-bias estimate on" : "off (baseline)");
 }
 BENCHMARK(BM_GyroBiasDriftSimulator)
