@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/json_text.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/image_io.hpp"
 #include "tracking/camera_file.hpp"
@@ -46,15 +47,6 @@ std::string json_array(const double* v, int n) {
   std::string s = "[";
   for (int i = 0; i < n; ++i) s += (i ? ", " : "") + json_number(v[i]);
   return s + "]";
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
 }
 
 int run_align(const AlignOptions& o) {

@@ -9,6 +9,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/eval_group.hpp"
+#include "apps/json_text.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
@@ -27,23 +28,6 @@ struct EvalImuArgs {
   std::string scheme;  // empty: the configuration's inertial.scheme
   std::string config_file;
 };
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
 
 std::string json_stats(const inertial::ErrorStats& s) {
   std::ostringstream os;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/json_text.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "drivers/serial_imu/euroc_imu_csv.hpp"
@@ -41,15 +42,6 @@ std::string json_vec(const double v[3]) {
   s.precision(9);
   s << '[' << v[0] << ", " << v[1] << ", " << v[2] << ']';
   return s.str();
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + '"';
 }
 
 int run_listen(const ListenOptions& o) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/json_text.hpp"
 #include "io/io_error.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/oni/mcap_to_oni.hpp"
@@ -23,23 +24,6 @@
 
 namespace vigs::apps {
 namespace {
-
-std::string json_string(const std::string& s) {
-  std::string o = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      o += '\\';
-      o += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-      o += buf;
-    } else {
-      o += c;
-    }
-  }
-  return o + "\"";
-}
 
 struct ChannelStats {
   std::uint64_t messages = 0, first_ns = 0, last_ns = 0, decode_errors = 0;
