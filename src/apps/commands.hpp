@@ -20,5 +20,6 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code);
 void add_eval_image_command(CLI::App& app, ExitCode& exit_code);
 void add_render_command(CLI::App& app, ExitCode& exit_code);
 void add_map_command(CLI::App& app, ExitCode& exit_code);
+void add_replay_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps

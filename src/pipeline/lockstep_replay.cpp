@@ -1,0 +1,142 @@
+#include "pipeline/lockstep_replay.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <span>
+
+#include "eval/mcap_frames.hpp"
+#include "inertial/gravity_alignment.hpp"
+#include "io/io_error.hpp"
+
+namespace vigs::pipeline {
+namespace {
+
+/// Thrown from the frame callback to stop reading after max_frames.
+struct StopReading {};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::size_t ImuFeeder::feed_until(std::int64_t t_frame_ns, Odometry& odometry) {
+  std::size_t n = 0;
+  while (next_ < imu_.size() && imu_[next_].t_ns <= t_frame_ns) {
+    odometry.add_imu(imu_[next_++]);
+    ++n;
+  }
+  return n;
+}
+
+const char* to_string(InitialPoseSource source) {
+  switch (source) {
+    case InitialPoseSource::ground_truth:
+      return "ground_truth";
+    case InitialPoseSource::gravity:
+      return "gravity";
+    case InitialPoseSource::identity:
+      return "identity";
+  }
+  return "unknown";
+}
+
+geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_first_ns,
+                                   const config::RobotConfig& cfg, InitialPoseSource& used) {
+  const geometry::Pose T_b_c =
+      inertial::InertialFrontendOptions::from(cfg.imu, cfg.extrinsics, cfg.inertial).T_b_c;
+  if (const auto T_w_b = interpolate_pose(motion.body_poses, t_first_ns)) {
+    used = InitialPoseSource::ground_truth;
+    return *T_w_b * T_b_c;
+  }
+  constexpr std::int64_t kRestWindowNs = 500'000'000;
+  std::size_t begin = 0, end = 0;
+  for (std::size_t i = 0; i < motion.imu.size(); ++i) {
+    const std::int64_t t = motion.imu[i].t_ns;
+    if (t < t_first_ns - kRestWindowNs) begin = i + 1;
+    if (t <= t_first_ns) end = i + 1;
+  }
+  if (end <= begin && !motion.imu.empty()) {  // no sample before the frame: the first ones
+    begin = 0;
+    end = std::min<std::size_t>(motion.imu.size(), 20);
+  }
+  const std::span<const ImuSample> at_rest(motion.imu.data() + begin, end - begin);
+  if (const auto R_w_b = inertial::gravity_aligned_R_w_b(at_rest)) {
+    used = InitialPoseSource::gravity;
+    geometry::Pose T_w_b = geometry::Pose::Identity();
+    T_w_b.linear() = *R_w_b;
+    return T_w_b * T_b_c;
+  }
+  used = InitialPoseSource::identity;
+  return geometry::Pose::Identity();
+}
+
+ReplayResult replay_recording(const std::string& path, const config::RobotConfig& cfg,
+                              const ReplayOptions& options,
+                              const std::function<void(const TrackedFrame&)>& on_frame) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ReplayResult result;
+  const RecordedMotion motion = read_recorded_motion(path, options.imu_topic, options.pose_topic);
+  result.imu_samples = motion.imu.size();
+
+  std::optional<Odometry> odometry;
+  ImuFeeder feeder(motion.imu);
+  io::ImageF32 blank_depth;
+  std::int64_t last_t_ns = 0;
+  const auto on_recorded = [&](const eval::RecordedFrame& rec) {
+    const std::int64_t t_ns = std::llround(rec.t_s * 1e9);
+    if (!odometry) {
+      OdometryOptions opt;
+      opt.guess = options.guess;
+      opt.initial_T_w_c = initial_camera_pose(motion, t_ns, cfg, result.initial_pose);
+      odometry.emplace(cfg, rec.camera, opt);
+      result.camera = rec.camera;
+      result.guess = odometry->guess_mode();
+      blank_depth = io::ImageF32(rec.camera.width_px, rec.camera.height_px, 1);
+      result.frames.reserve(options.max_frames > 0 ? static_cast<std::size_t>(options.max_frames)
+                                                   : 1024);
+    } else {
+      if (rec.camera.width_px != result.camera.width_px ||
+          rec.camera.height_px != result.camera.height_px ||
+          rec.camera.fx_px != result.camera.fx_px || rec.camera.fy_px != result.camera.fy_px ||
+          rec.camera.cx_px != result.camera.cx_px || rec.camera.cy_px != result.camera.cy_px) {
+        throw RecordingError(path + ": frame " + std::to_string(rec.index) +
+                             ": camera intrinsics change during the recording");
+      }
+      if (t_ns <= last_t_ns) {
+        throw RecordingError(path + ": frame " + std::to_string(rec.index) +
+                             ": stamp not after the previous frame's");
+      }
+    }
+    last_t_ns = t_ns;
+    feeder.feed_until(t_ns, *odometry);
+    const bool has_depth = !rec.depth_m.empty();
+    if (!has_depth) ++result.frames_without_depth;
+    const auto t_track = std::chrono::steady_clock::now();
+    const TrackedFrame f = odometry->track(t_ns, has_depth ? rec.depth_m : blank_depth, rec.rgb);
+    result.track_s += seconds_since(t_track);
+    result.frames.push_back(f);
+    if (on_frame) on_frame(f);
+    if (options.max_frames > 0 &&
+        static_cast<std::int64_t>(result.frames.size()) >= options.max_frames) {
+      throw StopReading{};
+    }
+  };
+  try {
+    eval::for_each_recorded_frame(path, on_recorded);
+  } catch (const StopReading&) {
+  } catch (const RecordingError&) {
+    throw;
+  } catch (const io::IoError& e) {
+    throw RecordingError(e.what());
+  } catch (const std::runtime_error& e) {  // for_each_recorded_frame names the file and offset
+    throw RecordingError(e.what());
+  }
+  if (!odometry) throw RecordingError(path + ": no RGB-D frames on " + eval::kRgbTopic);
+  result.counters = odometry->counters();
+  result.imu_samples_fed = feeder.fed();
+  result.wall_s = seconds_since(t0);
+  return result;
+}
+
+}  // namespace vigs::pipeline

@@ -1,0 +1,76 @@
+#pragma once
+// Lockstep replay of an MCAP recording through the Odometry: nothing is dropped and nothing
+// waits on a clock, so the same file and configuration give a bit-identical trajectory (the
+// tracker's threads use a fixed partition).
+//
+// Order: the IMU and ground truth are read first (recorded_motion.hpp; a damaged file is
+// refused there), then the frames are streamed (eval::for_each_recorded_frame) and before each
+// frame every IMU sample with t <= the frame stamp is fed, in stamp order.
+//
+// The first frame's pose (the world frame must be gravity-aligned, z up, for the IMU):
+//  - ground_truth: the recording's T_w_b at the first frame (interpolated) times T_b_c; the
+//    estimate then shares the ground truth's world frame;
+//  - gravity: when the recording has no ground truth, the attitude from the mean accelerometer
+//    reading of the IMU samples in the 0.5 s up to the first frame (the sensor must be at rest
+//    then; yaw 0, position 0);
+//  - identity: neither ground truth nor IMU samples (fine for the no-IMU baselines only).
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/config/robot_config.hpp"
+#include "pipeline/odometry.hpp"
+#include "pipeline/recorded_motion.hpp"
+
+namespace vigs::pipeline {
+
+/// Feeds the samples of a time-sorted vector into an Odometry, each once.
+class ImuFeeder {
+ public:
+  explicit ImuFeeder(const std::vector<ImuSample>& imu) : imu_(imu) {}
+  /// Adds every sample not yet fed with t_ns <= t_frame_ns; returns how many.
+  std::size_t feed_until(std::int64_t t_frame_ns, Odometry& odometry);
+  [[nodiscard]] std::size_t fed() const { return next_; }
+
+ private:
+  const std::vector<ImuSample>& imu_;
+  std::size_t next_ = 0;
+};
+
+enum class InitialPoseSource { ground_truth, gravity, identity };
+const char* to_string(InitialPoseSource source);
+
+/// The first frame's camera pose from the recording (see the header comment); `used` says which.
+geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_first_ns,
+                                   const config::RobotConfig& cfg, InitialPoseSource& used);
+
+struct ReplayOptions {
+  std::optional<tracking::InitialGuessMode> guess;  ///< overrides tracking.initial_guess
+  std::int64_t max_frames = 0;                      ///< 0 = every frame
+  std::string imu_topic = kImuTopic;
+  std::string pose_topic = kBodyPoseTopic;
+};
+
+struct ReplayResult {
+  std::vector<TrackedFrame> frames;
+  OdometryCounters counters;
+  tracking::InitialGuessMode guess = tracking::InitialGuessMode::imu;
+  InitialPoseSource initial_pose = InitialPoseSource::identity;
+  PinholeCamera camera;
+  std::size_t imu_samples = 0;            ///< in the recording
+  std::size_t imu_samples_fed = 0;        ///< fed before the last replayed frame
+  std::int64_t frames_without_depth = 0;  ///< tracked with an all-invalid depth image
+  double wall_s = 0.0;                    ///< whole replay: reading, decoding, tracking
+  double track_s = 0.0;                   ///< inside Odometry::track only
+};
+
+/// Replays `path`. Throws RecordingError naming the file on a damaged or unusable recording
+/// (no frames, frames changing size, undecodable messages); io::IoError for unreadable files
+/// is turned into RecordingError too. `on_frame` (optional) sees every result as it is made.
+ReplayResult replay_recording(const std::string& path, const config::RobotConfig& cfg,
+                              const ReplayOptions& options,
+                              const std::function<void(const TrackedFrame&)>& on_frame = {});
+
+}  // namespace vigs::pipeline

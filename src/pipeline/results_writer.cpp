@@ -1,0 +1,55 @@
+#include "pipeline/results_writer.hpp"
+
+#include <sys/resource.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+#include <vector>
+
+#include "eval/results_dir.hpp"
+#include "io/atomic_file.hpp"
+#include "io/tum_trajectory.hpp"
+
+namespace vigs::pipeline {
+
+double peak_rss_bytes() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_maxrss) * 1024.0;  // Linux: kilobytes
+}
+
+void write_results_dir(const std::string& dir, const ReplayResult& r,
+                       const std::string& stats_json) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(dir + ": cannot create directory: " + ec.message());
+  const std::filesystem::path root(dir);
+
+  std::vector<io::TumPose> poses;
+  std::vector<double> keyframe_t_s;
+  poses.reserve(r.frames.size());
+  for (const TrackedFrame& f : r.frames) {
+    io::TumPose p;
+    p.t_s = static_cast<double>(f.t_ns) * 1e-9;
+    p.p_w_m = f.T_w_c.translation();
+    p.q_w = Eigen::Quaterniond(f.T_w_c.linear()).normalized();
+    poses.push_back(p);
+    if (f.keyframe) keyframe_t_s.push_back(p.t_s);
+  }
+  io::write_tum_trajectory((root / eval::kTrajectoryFile).string(), poses);
+
+  const auto write_text = [](const std::string& path, const std::string& text) {
+    io::write_file_atomically(path, [&](std::FILE* f) {
+      if (std::fwrite(text.data(), 1, text.size(), f) != text.size())
+        throw std::runtime_error(path + ": write failed");
+    });
+  };
+  write_text((root / eval::kKeyframesFile).string(), "# keyframe stamps (s) of a vigs replay\n" +
+                                                         eval::format_keyframe_times(keyframe_t_s));
+  write_text((root / eval::kStatsFile).string(), stats_json);
+}
+
+}  // namespace vigs::pipeline
