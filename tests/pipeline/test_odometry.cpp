@@ -1,0 +1,161 @@
+// The odometry on a simulated office sequence: lockstep replay is deterministic, the IMU guess
+// tracks with a small ATE where GS-ICP SLAM's previous-pose guess slides along the corridor,
+// and lost frames are bridged by IMU propagation until tracking resumes.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <optional>
+
+#include "eval/mcap_frames.hpp"
+#include "pipeline/lockstep_replay.hpp"
+#include "pipeline/odometry.hpp"
+#include "tests/pipeline/sim_sequence.hpp"
+
+namespace vigs::pipeline {
+namespace {
+
+using testing::TempDir;
+
+constexpr double kSeconds = 6.0;  // 2 s at rest, then about 4 m of corridor
+
+/// Each test process simulates its own copy (ctest runs the tests in parallel processes).
+class SimulatedOffice : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    cfg_ = testing::small_office(kSeconds);
+    path_ = dir_.file("office.mcap");
+    testing::simulate(cfg_, path_);
+    motion_ = read_recorded_motion(path_);
+  }
+  ReplayResult replay(tracking::InitialGuessMode mode) {
+    ReplayOptions opt;
+    opt.guess = mode;
+    return replay_recording(path_, cfg_, opt);
+  }
+
+  TempDir dir_;
+  config::RobotConfig cfg_;
+  std::string path_;
+  RecordedMotion motion_;
+};
+
+bool bit_identical(const geometry::Pose& a, const geometry::Pose& b) {
+  return std::memcmp(a.matrix().data(), b.matrix().data(), sizeof(double) * 16) == 0;
+}
+
+TEST_F(SimulatedOffice, LockstepReplayIsBitIdenticalRunToRun) {
+  const ReplayResult a = replay(tracking::InitialGuessMode::imu);
+  const ReplayResult b = replay(tracking::InitialGuessMode::imu);
+  ASSERT_EQ(a.frames.size(), 121u);
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (std::size_t i = 0; i < a.frames.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(a.frames[i].t_ns, b.frames[i].t_ns);
+    EXPECT_TRUE(bit_identical(a.frames[i].T_w_c, b.frames[i].T_w_c));
+    EXPECT_EQ(a.frames[i].status, b.frames[i].status);
+    EXPECT_EQ(a.frames[i].keyframe, b.frames[i].keyframe);
+  }
+  // Every IMU sample up to the last frame was fed, none after it.
+  EXPECT_EQ(a.imu_samples_fed, motion_.imu.size());
+  EXPECT_EQ(a.initial_pose, InitialPoseSource::ground_truth);
+}
+
+TEST_F(SimulatedOffice, ImuGuessTracksEveryFrameWithCentimetreAte) {
+  const ReplayResult r = replay(tracking::InitialGuessMode::imu);
+  EXPECT_EQ(r.counters.lost, 0);
+  EXPECT_EQ(r.counters.tracked, static_cast<long>(r.frames.size()) - 1);
+  EXPECT_EQ(r.counters.imu_guesses, static_cast<long>(r.frames.size()) - 1);
+  EXPECT_EQ(r.counters.imu_resets, static_cast<long>(r.frames.size()));
+  const eval::AteResult ate = testing::camera_ate(motion_, r.frames, cfg_);
+  EXPECT_EQ(ate.pairs, r.frames.size());
+  std::printf("imu guess: ATE rmse %.4f m, max %.4f m over %zu frames\n", ate.stats.rmse,
+              ate.stats.max, ate.pairs);
+  // Bound: 3 cm RMSE over ~4 m of walking.
+  EXPECT_LT(ate.stats.rmse, 0.03);
+  EXPECT_LT(ate.stats.max, 0.08);
+}
+
+TEST_F(SimulatedOffice, PreviousPoseBaselineDriftsWhereTheImuGuessDoesNot) {
+  const ReplayResult imu = replay(tracking::InitialGuessMode::imu);
+  const ReplayResult prev = replay(tracking::InitialGuessMode::previous_pose);
+  EXPECT_EQ(prev.counters.imu_guesses, 0);
+  const double ate_imu = testing::camera_ate(motion_, imu.frames, cfg_).stats.rmse;
+  const double ate_prev = testing::camera_ate(motion_, prev.frames, cfg_).stats.rmse;
+  std::printf("ATE rmse: imu %.4f m, previous_pose %.4f m\n", ate_imu, ate_prev);
+  // GICP from the previous pose converges short along the corridor, frame after frame.
+  EXPECT_GT(ate_prev, 5.0 * ate_imu) << "imu " << ate_imu << " m, previous_pose " << ate_prev;
+}
+
+TEST_F(SimulatedOffice, LostFramesAreImuPropagatedAndTrackingResumes) {
+  constexpr std::uint64_t kGapBegin = 70, kGapEnd = 76;  // 6 frames (0.3 s) without depth
+  OdometryOptions opt;
+  opt.guess = tracking::InitialGuessMode::imu;
+  std::optional<Odometry> odometry;
+  ImuFeeder feeder(motion_.imu);
+  io::ImageF32 blank;
+  std::vector<TrackedFrame> frames;
+  eval::for_each_recorded_frame(path_, [&](const eval::RecordedFrame& rec) {
+    const auto t_ns = static_cast<std::int64_t>(std::llround(rec.t_s * 1e9));
+    if (!odometry) {
+      InitialPoseSource used;
+      opt.initial_T_w_c = initial_camera_pose(motion_, t_ns, cfg_, used);
+      odometry.emplace(cfg_, rec.camera, opt);
+      blank = io::ImageF32(rec.camera.width_px, rec.camera.height_px, 1);  // all zero = invalid
+    }
+    feeder.feed_until(t_ns, *odometry);
+    const bool in_gap = rec.index >= kGapBegin && rec.index < kGapEnd;
+    frames.push_back(odometry->track(t_ns, in_gap ? blank : rec.depth_m, rec.rgb));
+  });
+  ASSERT_EQ(frames.size(), 121u);
+  const eval::Trajectory gt = testing::ground_truth_camera(motion_, frames, cfg_);
+
+  // The camera moves enough across the gap that a frozen pose would be far off.
+  const double gap_motion_m =
+      (gt.poses[kGapEnd].T_w_x.translation() - gt.poses[kGapBegin - 1].T_w_x.translation()).norm();
+  ASSERT_GT(gap_motion_m, 0.2);
+
+  for (std::uint64_t i = kGapBegin; i < kGapEnd; ++i) {
+    SCOPED_TRACE(i);
+    const TrackedFrame& f = frames[i];
+    EXPECT_FALSE(f.pose_from_gicp);
+    EXPECT_NE(f.status, tracking::TrackingStatus::tracked);
+    EXPECT_TRUE(f.imu_guess);
+    EXPECT_FALSE(f.keyframe);
+    EXPECT_TRUE(bit_identical(f.T_w_c, f.T_w_c_guess));  // the pose is the IMU propagation
+    // Same world frame as the ground truth (first pose from it): no alignment needed.
+    const double err_m = (f.T_w_c.translation() - gt.poses[i].T_w_x.translation()).norm();
+    std::printf("lost frame %llu: IMU-propagated position error %.4f m\n",
+                static_cast<unsigned long long>(i), err_m);
+    EXPECT_LT(err_m, 0.05) << "IMU-propagated position error after " << (i - kGapBegin + 1)
+                           << " lost frames";
+  }
+  EXPECT_EQ(odometry->counters().lost, static_cast<long>(kGapEnd - kGapBegin));
+  // No reset from a lost frame: the IMU propagates from the last good frame across the gap.
+  EXPECT_EQ(odometry->counters().imu_resets,
+            static_cast<long>(frames.size() - (kGapEnd - kGapBegin)));
+  // Resumes at once and stays on track.
+  for (std::size_t i = kGapEnd; i < frames.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_TRUE(frames[i].pose_from_gicp);
+  }
+  EXPECT_LT(testing::camera_ate(motion_, frames, cfg_).stats.rmse, 0.03);
+}
+
+TEST(InterpolatePose, ExactMidpointAndOutOfRange) {
+  std::vector<StampedPose> poses(2);
+  poses[0].t_ns = 1000;
+  poses[1].t_ns = 2000;
+  poses[1].T_w_x = geometry::make_pose(Eigen::Vector3d(0, 0, 0.5), Eigen::Vector3d(2, 0, 0));
+  EXPECT_TRUE(interpolate_pose(poses, 1000)->isApprox(poses[0].T_w_x));
+  const geometry::Pose mid = *interpolate_pose(poses, 1500);
+  EXPECT_NEAR(mid.translation().x(), 1.0, 1e-12);
+  EXPECT_NEAR(geometry::rotation_angle(mid.linear()), 0.25, 1e-12);
+  EXPECT_FALSE(interpolate_pose(poses, 999).has_value());
+  EXPECT_FALSE(interpolate_pose(poses, 2001).has_value());
+  EXPECT_FALSE(interpolate_pose(poses, 1500, 500).has_value());  // gap too long
+  EXPECT_FALSE(interpolate_pose({}, 0).has_value());
+}
+
+}  // namespace
+}  // namespace vigs::pipeline

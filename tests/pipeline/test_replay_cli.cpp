@@ -1,0 +1,139 @@
+// `vigs replay` end to end: a RESULTS_DIR that the eval readers parse and `vigs eval run`
+// reports on, and damaged recordings refused with the file named.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "eval/results_dir.hpp"
+#include "io/tum_trajectory.hpp"
+#include "pipeline/lockstep_replay.hpp"
+#include "tests/pipeline/sim_sequence.hpp"
+
+namespace vigs::pipeline {
+namespace {
+
+using testing::TempDir;
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Runs a shell command line; returns its exit status.
+int run(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+class ReplayCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    cfg_ = testing::small_office(3.0);
+    path_ = dir_.file("office.mcap");
+    testing::simulate(cfg_, path_);
+    // The same settings for the binary (stride 2, as the library tests use).
+    std::ofstream(dir_.file("robot.yaml")) << "tracking:\n  pixel_stride: 2\n";
+  }
+  std::string vigs(const std::string& args, const std::string& log) {
+    return std::string(VIGS_BIN) + " " + args + " > " + dir_.file(log + ".out") + " 2> " +
+           dir_.file(log + ".err");
+  }
+
+  TempDir dir_;
+  config::RobotConfig cfg_;
+  std::string path_;
+};
+
+TEST_F(ReplayCli, WritesAResultsDirThatEvalReads) {
+  const std::string out = dir_.file("results");
+  ASSERT_EQ(run(vigs("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
+                         " --guess imu --quiet",
+                     "replay")),
+            0)
+      << read_text(dir_.file("replay.err"));
+
+  const auto poses = io::read_tum_trajectory(out + "/" + eval::kTrajectoryFile);
+  ASSERT_EQ(poses.size(), 61u);  // 3 s at 20 Hz, both ends
+  EXPECT_DOUBLE_EQ(poses.front().t_s, 0.0);
+  EXPECT_NEAR(poses.back().t_s, 3.0, 1e-9);
+
+  const eval::RunStats stats = eval::read_run_stats(out + "/" + eval::kStatsFile);
+  ASSERT_TRUE(stats.frames && stats.wall_s && stats.fps && stats.peak_rss_bytes);
+  EXPECT_EQ(*stats.frames, 61.0);
+  EXPECT_GT(*stats.wall_s, 0.0);
+  EXPECT_NEAR(*stats.fps, *stats.frames / *stats.wall_s, 1e-6 * *stats.fps);
+  EXPECT_GT(*stats.peak_rss_bytes, 1e6);
+  const std::string stats_text = read_text(out + "/" + eval::kStatsFile);
+  EXPECT_NE(stats_text.find("\"tracked\": 60"), std::string::npos) << stats_text;
+  EXPECT_NE(stats_text.find("\"lost\": 0"), std::string::npos) << stats_text;
+  EXPECT_NE(stats_text.find("\"guess\": \"imu\""), std::string::npos) << stats_text;
+
+  const std::vector<double> kf = eval::read_keyframe_times(out + "/" + eval::kKeyframesFile);
+  ASSERT_FALSE(kf.empty());
+  EXPECT_DOUBLE_EQ(kf.front(), 0.0);  // the first frame starts the map
+  for (const double t : kf) {
+    bool found = false;
+    for (const auto& p : poses) found = found || p.t_s == t;
+    EXPECT_TRUE(found) << "keyframe stamp " << t << " is not a trajectory stamp";
+  }
+  // No temporary file left behind by the atomic writes.
+  for (const auto& e : std::filesystem::directory_iterator(out))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+
+  ASSERT_EQ(run(vigs("eval run " + out + " --gt " + path_ + " --no-plots --no-render", "eval")), 0)
+      << read_text(dir_.file("eval.err"));
+  const std::string report = read_text(dir_.file("eval.out"));
+  EXPECT_NE(report.find("\"pairs\": 61"), std::string::npos) << report;
+  EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
+}
+
+TEST_F(ReplayCli, FramesOptionLimitsTheReplay) {
+  const std::string out = dir_.file("first10");
+  ASSERT_EQ(run(vigs("replay " + path_ + " --out " + out +
+                         " --frames 10 --guess previous_pose "
+                         "--quiet",
+                     "frames")),
+            0)
+      << read_text(dir_.file("frames.err"));
+  EXPECT_EQ(io::read_tum_trajectory(out + "/" + eval::kTrajectoryFile).size(), 10u);
+  EXPECT_EQ(*eval::read_run_stats(out + "/" + eval::kStatsFile).frames, 10.0);
+}
+
+TEST_F(ReplayCli, DamagedRecordingsAreRefusedNamingTheFile) {
+  const std::string bytes = read_text(path_);
+  ASSERT_GT(bytes.size(), 100000u);
+  const std::string truncated = dir_.file("truncated.mcap");
+  std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  std::string flipped_bytes = bytes;
+  flipped_bytes[bytes.size() / 3] = static_cast<char>(flipped_bytes[bytes.size() / 3] ^ 0x5a);
+  const std::string flipped = dir_.file("flipped.mcap");
+  std::ofstream(flipped, std::ios::binary) << flipped_bytes;
+  const std::string not_mcap = dir_.file("robot.yaml");
+  const std::string missing = dir_.file("missing.mcap");
+
+  for (const std::string& bad : {truncated, flipped, not_mcap, missing}) {
+    SCOPED_TRACE(bad);
+    // The library throws RecordingError naming the file...
+    try {
+      replay_recording(bad, cfg_, {});
+      ADD_FAILURE() << "no error";
+    } catch (const RecordingError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+    // ... and the command exits 1 with that message, writing nothing.
+    const std::string out = dir_.file("bad_results");
+    EXPECT_EQ(run(vigs("replay " + bad + " --out " + out + " --quiet", "bad")), 1);
+    const std::string err = read_text(dir_.file("bad.err"));
+    EXPECT_NE(err.find(bad), std::string::npos) << err;
+    EXPECT_FALSE(std::filesystem::exists(out + "/" + eval::kTrajectoryFile));
+  }
+}
+
+}  // namespace
+}  // namespace vigs::pipeline
