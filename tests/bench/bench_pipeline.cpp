@@ -1,0 +1,81 @@
+// The paper's IMU-vs-no-IMU comparison in one run: the same simulated office sequence replayed
+// in lockstep through the odometry with the IMU initial guess (VIGS), previous pose (GS-ICP
+// SLAM's baseline) and constant velocity, each reporting ATE (true RMSE, SE(3) alignment) and
+// the time per frame.
+//
+// Sequences (240x160, 90 deg FOV, pixel stride 2, no people, 1.5 m/s cruise speed):
+//   range(0) = 20: 20 s with the camera at 20 Hz (up to 7.5 cm between frames);
+//   range(0) = 5:  30 s with the camera at 5 Hz (up to 30 cm and ~10 deg between frames: the
+//                  frame-to-frame motion of 6 m/s at 20 Hz, i.e. fast motion).
+// range(1): 0 imu, 1 previous_pose, 2 constant_velocity. Each replay is deterministic, so one
+// iteration is enough; the sequence is simulated once per camera rate (not timed).
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+#include "pipeline/lockstep_replay.hpp"
+#include "tests/pipeline/sim_sequence.hpp"
+
+namespace {
+
+using namespace vigs;
+using pipeline::testing::TempDir;
+
+struct Sequence {
+  config::RobotConfig cfg;
+  std::string path;
+  pipeline::RecordedMotion motion;
+};
+
+const Sequence& sequence(int camera_hz) {
+  static TempDir dir;
+  static std::map<int, std::unique_ptr<Sequence>> cache;
+  auto& s = cache[camera_hz];
+  if (!s) {
+    s = std::make_unique<Sequence>();
+    s->cfg = pipeline::testing::small_office(camera_hz == 20 ? 20.0 : 30.0);
+    s->cfg.sim.speed_mps = 1.5;
+    s->cfg.camera.rate_hz = camera_hz;
+    s->path = dir.file("office_" + std::to_string(camera_hz) + "hz.mcap");
+    pipeline::testing::simulate(s->cfg, s->path);
+    s->motion = pipeline::read_recorded_motion(s->path);
+  }
+  return *s;
+}
+
+void BM_ReplayOffice(benchmark::State& state) {
+  const auto camera_hz = static_cast<int>(state.range(0));
+  const tracking::InitialGuessMode modes[] = {tracking::InitialGuessMode::imu,
+                                              tracking::InitialGuessMode::previous_pose,
+                                              tracking::InitialGuessMode::constant_velocity};
+  const tracking::InitialGuessMode mode = modes[state.range(1)];
+  const Sequence& seq = sequence(camera_hz);
+  pipeline::ReplayOptions opt;
+  opt.guess = mode;
+  pipeline::ReplayResult r;
+  for (auto _ : state) {
+    r = pipeline::replay_recording(seq.path, seq.cfg, opt);
+    benchmark::DoNotOptimize(r.frames.data());
+  }
+  const eval::AteResult ate = pipeline::testing::camera_ate(seq.motion, r.frames, seq.cfg);
+  const auto frames = static_cast<double>(r.frames.size());
+  state.SetLabel(std::string(pipeline::to_string(mode)) + " @ " + std::to_string(camera_hz) +
+                 " Hz");
+  state.counters["ate_rmse_m"] = ate.stats.rmse;
+  state.counters["ate_max_m"] = ate.stats.max;
+  state.counters["frames"] = frames;
+  state.counters["lost"] = static_cast<double>(r.counters.lost);
+  state.counters["track_ms_per_frame"] = 1e3 * r.track_s / frames;
+  state.counters["replay_ms_per_frame"] = 1e3 * r.wall_s / frames;
+}
+BENCHMARK(BM_ReplayOffice)
+    ->ArgNames({"camera_hz", "guess"})
+    ->ArgsProduct({{20, 5}, {0, 1, 2}})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
