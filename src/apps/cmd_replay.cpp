@@ -20,6 +20,7 @@ namespace {
 struct ReplayArgs {
   std::string recording, out, config_file, guess;
   std::int64_t frames = 0;
+  int map_iterations = 0;
   bool quiet = false;
 };
 
@@ -56,6 +57,11 @@ std::string stats_json(const pipeline::ReplayResult& r, const std::string& recor
   add("imu_samples", count(static_cast<long>(r.imu_samples)));
   add("imu_samples_fed", count(static_cast<long>(r.imu_samples_fed)));
   add("frames_without_depth", count(static_cast<long>(r.frames_without_depth)));
+  if (r.map) {
+    add("gaussians", count(static_cast<long>(r.map->size())));
+    add("map_iterations", count(r.map_iterations));
+    add("map_ms_per_frame", json_number(frames > 0 ? 1e3 * r.map_s / frames : NAN));
+  }
   return s + "\n}\n";
 }
 
@@ -65,7 +71,8 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   auto* cmd = app.add_subcommand(
       "replay",
       "Replay an MCAP recording in lockstep through IMU-seeded GICP tracking and write a "
-      "RESULTS_DIR (trajectory.tum, keyframes.txt, stats.json) for `vigs eval run`");
+      "RESULTS_DIR (trajectory.tum, keyframes.txt, stats.json, optionally map.ply) for "
+      "`vigs eval run`");
   static ReplayArgs a;
   cmd->add_option("recording", a.recording, "RGB-D + IMU recording (.mcap, e.g. vigs simulate)")
       ->required();
@@ -79,6 +86,9 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::IsMember({"imu", "constant_velocity", "previous_pose"}));
   cmd->add_option("--frames", a.frames, "replay only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--map-iterations", a.map_iterations,
+                  "build map.ply: mapper iterations after every frame (0 = no map)")
+      ->check(CLI::Range(0, 1000));
   cmd->add_flag("--quiet", a.quiet, "no progress on stderr");
   cmd->callback([&exit_code] {
     try {
@@ -89,6 +99,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       pipeline::ReplayOptions opt;
       if (!a.guess.empty()) opt.guess = tracking::initial_guess_from_string(a.guess);
       opt.max_frames = a.frames;
+      opt.map_iterations_per_frame = a.map_iterations;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;
         if (++n % 100 == 0)

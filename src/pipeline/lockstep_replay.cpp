@@ -7,6 +7,7 @@
 #include "eval/mcap_frames.hpp"
 #include "inertial/gravity_alignment.hpp"
 #include "io/io_error.hpp"
+#include "pipeline/lockstep_mapping.hpp"
 
 namespace vigs::pipeline {
 namespace {
@@ -80,6 +81,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   result.imu_samples = motion.imu.size();
 
   std::optional<Odometry> odometry;
+  std::optional<LockstepMapper> mapper;
   ImuFeeder feeder(motion.imu);
   io::ImageF32 blank_depth;
   std::int64_t last_t_ns = 0;
@@ -90,6 +92,8 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
       opt.guess = options.guess;
       opt.initial_T_w_c = initial_camera_pose(motion, t_ns, cfg, result.initial_pose);
       odometry.emplace(cfg, rec.camera, opt);
+      if (options.map_iterations_per_frame > 0)
+        mapper.emplace(cfg.mapping, rec.camera, options.map_iterations_per_frame);
       result.camera = rec.camera;
       result.guess = odometry->guess_mode();
       blank_depth = io::ImageF32(rec.camera.width_px, rec.camera.height_px, 1);
@@ -113,8 +117,15 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     const bool has_depth = !rec.depth_m.empty();
     if (!has_depth) ++result.frames_without_depth;
     const auto t_track = std::chrono::steady_clock::now();
-    const TrackedFrame f = odometry->track(t_ns, has_depth ? rec.depth_m : blank_depth, rec.rgb);
+    const io::ImageF32& depth_m = has_depth ? rec.depth_m : blank_depth;
+    const TrackedFrame f = odometry->track(t_ns, depth_m, rec.rgb);
     result.track_s += seconds_since(t_track);
+    if (mapper) {
+      const auto t_map = std::chrono::steady_clock::now();
+      if (f.keyframe) mapper->add_keyframe(odometry->tracker().last_keyframe(), rec.rgb, depth_m);
+      mapper->step();
+      result.map_s += seconds_since(t_map);
+    }
     result.frames.push_back(f);
     if (on_frame) on_frame(f);
     if (options.max_frames > 0 &&
@@ -135,6 +146,10 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   if (!odometry) throw RecordingError(path + ": no RGB-D frames on " + eval::kRgbTopic);
   result.counters = odometry->counters();
   result.imu_samples_fed = feeder.fed();
+  if (mapper) {
+    result.map = std::make_shared<const mapping::GaussianMap>(mapper->map());
+    result.map_iterations = static_cast<long>(mapper->mapper().iterations());
+  }
   result.wall_s = seconds_since(t0);
   return result;
 }

@@ -16,11 +16,13 @@
 //  - identity: neither ground truth nor IMU samples (fine for the no-IMU baselines only).
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/config/robot_config.hpp"
+#include "mapping/gaussian_map.hpp"
 #include "pipeline/odometry.hpp"
 #include "pipeline/recorded_motion.hpp"
 
@@ -49,6 +51,9 @@ geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_
 struct ReplayOptions {
   std::optional<tracking::InitialGuessMode> guess;  ///< overrides tracking.initial_guess
   std::int64_t max_frames = 0;                      ///< 0 = every frame
+  /// > 0: build a Gaussian map in lockstep (lockstep_mapping.hpp) with this many mapper
+  /// iterations after every frame; 0: no map.
+  int map_iterations_per_frame = 0;
   std::string imu_topic = kImuTopic;
   std::string pose_topic = kBodyPoseTopic;
 };
@@ -64,6 +69,10 @@ struct ReplayResult {
   std::int64_t frames_without_depth = 0;  ///< tracked with an all-invalid depth image
   double wall_s = 0.0;                    ///< whole replay: reading, decoding, tracking
   double track_s = 0.0;                   ///< inside Odometry::track only
+  /// The map after the last frame's mapper tick (null without mapping).
+  std::shared_ptr<const mapping::GaussianMap> map;
+  long map_iterations = 0;
+  double map_s = 0.0;  ///< inside the mapper
 };
 
 /// Replays `path`. Throws RecordingError naming the file on a damaged or unusable recording

@@ -12,6 +12,7 @@
 #include "eval/results_dir.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tum_trajectory.hpp"
+#include "mapping/ply_io.hpp"
 
 namespace vigs::pipeline {
 
@@ -49,6 +50,7 @@ void write_results_dir(const std::string& dir, const ReplayResult& r,
   };
   write_text((root / eval::kKeyframesFile).string(), "# keyframe stamps (s) of a vigs replay\n" +
                                                          eval::format_keyframe_times(keyframe_t_s));
+  if (r.map) mapping::write_gaussian_ply((root / eval::kMapFile).string(), *r.map);
   write_text((root / eval::kStatsFile).string(), stats_json);
 }
 

@@ -1,0 +1,45 @@
+#pragma once
+// The mapper task's body (mapping::Mapper) driven in lockstep with the odometry during a
+// replay: each new tracking keyframe is handed over through the mapper's keyframe ring (its
+// Gaussians from the tracker's raw kNN covariances, as GS-ICP SLAM, and the frame as training
+// view), and after every frame the mapper runs one tick of `iterations_per_frame` optimisation
+// iterations over its window of recent keyframes. Offline and deterministic in its schedule;
+// not real time (a live mapper runs at its own rate on its own thread).
+#include <cstdint>
+#include <memory>
+
+#include "core/config/mapping_settings.hpp"
+#include "core/types/pinhole_camera.hpp"
+#include "io/image.hpp"
+#include "mapping/mapper.hpp"
+#include "mapping/worker_pool.hpp"
+#include "tracking/gaussian_cloud.hpp"
+
+namespace vigs::pipeline {
+
+class LockstepMapper {
+ public:
+  /// Rasterizer threads from s.threads; iterations_per_frame >= 1.
+  LockstepMapper(const config::MappingSettings& s, const PinholeCamera& camera,
+                 int iterations_per_frame);
+
+  /// Hands a keyframe to the mapper (allocates: copies points and images).
+  void add_keyframe(const tracking::Keyframe& kf, const io::ImageU8& rgb,
+                    const io::ImageF32& depth_m);
+  /// One mapper tick: ingest, then iterations_per_frame iterations (none before a keyframe).
+  void step() { mapper_->tick(); }
+
+  [[nodiscard]] const mapping::GaussianMap& map() const { return mapper_->map(); }
+  [[nodiscard]] const mapping::Mapper& mapper() const { return *mapper_; }
+  [[nodiscard]] long dropped_keyframes() const { return dropped_keyframes_; }
+
+ private:
+  PinholeCamera camera_;
+  mapping::WorkerPool pool_;
+  mapping::KeyframeRing ring_;
+  std::unique_ptr<mapping::Mapper> mapper_;
+  std::uint64_t next_id_ = 0;
+  long dropped_keyframes_ = 0;
+};
+
+}  // namespace vigs::pipeline
