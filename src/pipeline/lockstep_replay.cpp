@@ -92,6 +92,11 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
       opt.guess = options.guess;
       opt.initial_T_w_c = initial_camera_pose(motion, t_ns, cfg, result.initial_pose);
       odometry.emplace(cfg, rec.camera, opt);
+      // Without samples the frontend would integrate zero specific force: free fall.
+      if (odometry->guess_mode() == tracking::InitialGuessMode::imu && motion.imu.empty()) {
+        throw RecordingError(path + ": no sensor_msgs/Imu messages on " + options.imu_topic +
+                             " for the imu guess (use previous_pose or constant_velocity)");
+      }
       if (options.map_iterations_per_frame > 0)
         mapper.emplace(cfg.mapping, rec.camera, options.map_iterations_per_frame);
       result.camera = rec.camera;

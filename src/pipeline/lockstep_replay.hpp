@@ -76,8 +76,8 @@ struct ReplayResult {
 };
 
 /// Replays `path`. Throws RecordingError naming the file on a damaged or unusable recording
-/// (no frames, frames changing size, undecodable messages); io::IoError for unreadable files
-/// is turned into RecordingError too. `on_frame` (optional) sees every result as it is made.
+/// (no frames, frames changing size, undecodable messages, no IMU samples in imu mode); an
+/// unreadable file too. `on_frame` (optional) sees every result as it is made.
 ReplayResult replay_recording(const std::string& path, const config::RobotConfig& cfg,
                               const ReplayOptions& options,
                               const std::function<void(const TrackedFrame&)>& on_frame = {});

@@ -163,5 +163,39 @@ TEST_F(ReplayCli, DamagedRecordingsAreRefusedNamingTheFile) {
   }
 }
 
+TEST(ReplayWithoutImu, ImuGuessIsRefusedAndTheBaselinesStartAtIdentity) {
+  // Frames only: no IMU, no ground truth.
+  TempDir dir;
+  const config::RobotConfig cfg = testing::small_office(1.0);
+  const std::string path = dir.file("frames_only.mcap");
+  {
+    sim::Simulator simulator(cfg);
+    sim::McapSinkOptions opt;
+    sim::McapSink sink(path, opt);
+    sim::RgbdFrame frame;
+    for (std::uint64_t i = 0; i < 5; ++i) {
+      const double t_s = 0.05 * static_cast<double>(i);
+      simulator.render_at(t_s, i, frame);
+      sink.frame(static_cast<std::int64_t>(i) * 50'000'000, simulator.camera(), frame);
+    }
+    sink.close();
+  }
+  ReplayOptions opt;
+  opt.guess = tracking::InitialGuessMode::imu;
+  try {
+    replay_recording(path, cfg, opt);
+    ADD_FAILURE() << "imu guess without IMU samples was accepted";
+  } catch (const RecordingError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no sensor_msgs/Imu"), std::string::npos) << e.what();
+  }
+  opt.guess = tracking::InitialGuessMode::previous_pose;
+  const ReplayResult r = replay_recording(path, cfg, opt);
+  EXPECT_EQ(r.frames.size(), 5u);
+  EXPECT_EQ(r.initial_pose, InitialPoseSource::identity);
+  EXPECT_TRUE(r.frames.front().T_w_c.isApprox(geometry::Pose::Identity()));
+  EXPECT_EQ(r.counters.tracked, 4);  // the camera is at rest: every frame registers
+}
+
 }  // namespace
 }  // namespace vigs::pipeline
