@@ -17,7 +17,7 @@ namespace {
 
 using testing::TempDir;
 
-constexpr double kSeconds = 6.0;  // 2 s at rest, then about 4 m of corridor
+constexpr double kSeconds = 5.0;  // 2 s at rest, then about 3 m of corridor
 
 /// Each test process simulates its own copy (ctest runs the tests in parallel processes).
 class SimulatedOffice : public ::testing::Test {
@@ -47,7 +47,7 @@ bool bit_identical(const geometry::Pose& a, const geometry::Pose& b) {
 TEST_F(SimulatedOffice, LockstepReplayIsBitIdenticalRunToRun) {
   const ReplayResult a = replay(tracking::InitialGuessMode::imu);
   const ReplayResult b = replay(tracking::InitialGuessMode::imu);
-  ASSERT_EQ(a.frames.size(), 121u);
+  ASSERT_EQ(a.frames.size(), 101u);
   ASSERT_EQ(a.frames.size(), b.frames.size());
   for (std::size_t i = 0; i < a.frames.size(); ++i) {
     SCOPED_TRACE(i);
@@ -71,20 +71,19 @@ TEST_F(SimulatedOffice, ImuGuessTracksEveryFrameWithCentimetreAte) {
   EXPECT_EQ(ate.pairs, r.frames.size());
   std::printf("imu guess: ATE rmse %.4f m, max %.4f m over %zu frames\n", ate.stats.rmse,
               ate.stats.max, ate.pairs);
-  // Bound: 3 cm RMSE over ~4 m of walking.
+  // Bound: 3 cm RMSE over ~3 m of walking.
   EXPECT_LT(ate.stats.rmse, 0.03);
   EXPECT_LT(ate.stats.max, 0.08);
 }
 
 TEST_F(SimulatedOffice, PreviousPoseBaselineDriftsWhereTheImuGuessDoesNot) {
-  const ReplayResult imu = replay(tracking::InitialGuessMode::imu);
   const ReplayResult prev = replay(tracking::InitialGuessMode::previous_pose);
   EXPECT_EQ(prev.counters.imu_guesses, 0);
-  const double ate_imu = testing::camera_ate(motion_, imu.frames, cfg_).stats.rmse;
   const double ate_prev = testing::camera_ate(motion_, prev.frames, cfg_).stats.rmse;
-  std::printf("ATE rmse: imu %.4f m, previous_pose %.4f m\n", ate_imu, ate_prev);
-  // GICP from the previous pose converges short along the corridor, frame after frame.
-  EXPECT_GT(ate_prev, 5.0 * ate_imu) << "imu " << ate_imu << " m, previous_pose " << ate_prev;
+  std::printf("previous_pose: ATE rmse %.4f m\n", ate_prev);
+  // GICP from the previous pose converges short along the corridor, frame after frame: more
+  // than 5x the bound the imu guess meets above (same sequence, same settings).
+  EXPECT_GT(ate_prev, 5.0 * 0.03);
 }
 
 TEST_F(SimulatedOffice, LostFramesAreImuPropagatedAndTrackingResumes) {
@@ -107,7 +106,7 @@ TEST_F(SimulatedOffice, LostFramesAreImuPropagatedAndTrackingResumes) {
     const bool in_gap = rec.index >= kGapBegin && rec.index < kGapEnd;
     frames.push_back(odometry->track(t_ns, in_gap ? blank : rec.depth_m, rec.rgb));
   });
-  ASSERT_EQ(frames.size(), 121u);
+  ASSERT_EQ(frames.size(), 101u);
   const eval::Trajectory gt = testing::ground_truth_camera(motion_, frames, cfg_);
 
   // The camera moves enough across the gap that a frozen pose would be far off.
