@@ -9,6 +9,8 @@
 
 namespace vigs::tracking {
 
+inline constexpr std::size_t kBlock = 256;  ///< source points per work block
+
 template <class Target>
 Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& source,
                                     const geometry::Pose& T_t_s) {
@@ -28,11 +30,19 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
     part.sum_y.setZero();
     part.inliers = 0;
     part.overlapping = 0;
-    ForkJoin::for_each_interleaved(n, th, team_.size(), 256, [&](std::size_t i) {
+    ForkJoin::for_each_interleaved(n, th, team_.size(), kBlock, [&](std::size_t i) {
       const Eigen::Vector3d y = R * source.points_m[i].cast<double>() + t;
       std::uint32_t j = 0;
       float d2 = 0.0f;
-      if (!target.nearest(y.cast<float>(), max_sq, j, d2)) {
+      bool matched = false;
+      if constexpr (requires { target.nearest(y.cast<float>(), max_sq, j, d2, hints_[i]); }) {
+        // Hint: this point's match at the last linearisation (none at the first).
+        matched = target.nearest(y.cast<float>(), max_sq, j, d2, hints_[i]);
+        hints_[i] = matched ? j : KdTree::kNoHint;
+      } else {
+        matched = target.nearest(y.cast<float>(), max_sq, j, d2);
+      }
+      if (!matched) {
         return;
       }
       Eigen::Matrix3d M;
@@ -73,6 +83,7 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
     return result;  // verdict stays diverged: nothing to start from
   }
   geometry::Pose T = T_t_s_init;
+  hints_.assign(source.size(), KdTree::kNoHint);  // allocates only when the source grows
   Linearization lin = linearize(target, source, T);
   double lambda = setting_.lm_lambda_init;
   bool converged = false;

@@ -89,11 +89,14 @@ void KdTree::build(const std::vector<Eigen::Vector3f>& points, ForkJoin* team) {
   z_.assign(padded, kInf);
   block_index_.assign(padded, 0u);
   std::uint32_t at = 0;
+  leaf_of_slot_.resize(n);
   for (Node& node : nodes_) {
     if (node.axis >= 0) {
       continue;
     }
     const std::uint32_t count = node.end - node.begin;
+    std::fill(leaf_of_slot_.begin() + node.begin, leaf_of_slot_.begin() + node.end,
+              static_cast<std::uint32_t>(&node - nodes_.data()));
     for (std::uint32_t j = 0; j < count; ++j) {
       const BuildPoint& b = build_[node.begin + j];
       x_[at + j] = b.p[0];
@@ -105,6 +108,24 @@ void KdTree::build(const std::vector<Eigen::Vector3f>& points, ForkJoin* team) {
     node.end = at + (count + kLane - 1) / kLane * kLane;
     at = node.end;
   }
+  cells_.resize(nodes_.size());
+  if (n > 0) {
+    record_cells(0, Cell{{-kInf, -kInf, -kInf}, {kInf, kInf, kInf}});
+  }
+}
+
+// A left child holds the points with p[axis] <= split, a right child those >= split.
+void KdTree::record_cells(std::uint32_t node_id, Cell cell) {
+  const Node& node = nodes_[node_id];
+  if (node.axis < 0) {
+    cells_[node_id] = cell;
+    return;
+  }
+  Cell left = cell, right = cell;
+  left.hi[node.axis] = node.split;
+  right.lo[node.axis] = node.split;
+  record_cells(node_id + 1, left);
+  record_cells(node.right, right);
 }
 
 float KdTree::split_range(std::uint32_t begin, std::uint32_t end, std::uint32_t& mid, int& axis) {
@@ -224,13 +245,30 @@ int KdTree::knn(const Eigen::Vector3f& q, int k, std::uint32_t* indices, float* 
 }
 
 bool KdTree::nearest(const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t& index,
-                     float& sq_dist) const {
+                     float& sq_dist, std::uint32_t hint) const {
   if (nodes_.empty()) {
     return false;
   }
   NearestResult result;
   result.worst = max_sq_dist;
   const float qa[3] = {q.x(), q.y(), q.z()};
+  if (hint < slot_of_.size()) {
+    const std::uint32_t leaf = leaf_of_slot_[slot_of_[hint]];
+    scan_leaf(nodes_[leaf], qa, result);
+    const Cell& c = cells_[leaf];
+    float inside = kInf;  // distance from q to the nearest face of the leaf's cell
+    for (int a = 0; a < 3; ++a) {
+      inside = std::min(inside, std::min(qa[a] - c.lo[a], c.hi[a] - qa[a]));
+    }
+    if (inside > 0.0f && result.worst <= inside * inside * (1.0f - 1e-5f)) {
+      // Every other leaf lies beyond a face: nothing there can beat the bound.
+      if (result.found) {
+        index = result.index;
+        sq_dist = result.worst;
+      }
+      return result.found;
+    }
+  }
   float off[3] = {0.0f, 0.0f, 0.0f};
   search(0, qa, 0.0f, off, result);
   if (result.found) {

@@ -35,9 +35,15 @@ class KdTree {
   /// in distance keep the point met first, so results are deterministic.
   int knn(const Eigen::Vector3f& q, int k, std::uint32_t* indices, float* sq_dists) const;
 
-  /// Nearest point strictly within sqrt(max_sq_dist); false when there is none.
-  bool nearest(const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t& index,
-               float& sq_dist) const;
+  static constexpr std::uint32_t kNoHint = 0xffffffffu;
+
+  /// Nearest point strictly within sqrt(max_sq_dist); false when there is none. `hint`, an
+  /// original index (e.g. the answer for a nearby query), starts the search in the hint's
+  /// leaf: when q lies inside that leaf's cell farther from its faces than the best distance
+  /// found there, no other leaf can hold a closer point and the descent is skipped. The
+  /// nearest distance is the same with or without a hint.
+  bool nearest(const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t& index, float& sq_dist,
+               std::uint32_t hint = kNoHint) const;
 
   [[nodiscard]] std::size_t size() const { return index_.size(); }
   /// Original indices in leaf order: querying points in this order keeps the tree's nodes
@@ -75,6 +81,12 @@ class KdTree {
   std::vector<std::uint32_t> block_index_;  ///< padded slot -> original index
   std::vector<Node> nodes_;
   std::vector<Node> right_nodes_;  ///< scratch of the parallel build
+  struct Cell {
+    float lo[3], hi[3];  ///< the region of space a leaf owns (infinite at the outer faces)
+  };
+  std::vector<std::uint32_t> leaf_of_slot_;  ///< slot -> node id of its leaf
+  std::vector<Cell> cells_;                  ///< node id -> cell (filled for leaves)
+  void record_cells(std::uint32_t node, Cell cell);
 };
 
 }  // namespace vigs::tracking
