@@ -81,9 +81,7 @@ class Gicp {
 
  private:
   struct Partial {
-    Matrix6d H;
-    Vector6d b;
-    double cost;
+    GicpSystem system;
     double sum_sq_range;
     Eigen::Vector3d sum_y;
     int inliers;

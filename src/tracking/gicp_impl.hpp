@@ -23,9 +23,7 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
   const std::size_t n = source.size();
   team_.run([&](int th) {
     Partial& part = partials_[static_cast<std::size_t>(th)];
-    part.H.setZero();
-    part.b.setZero();
-    part.cost = 0.0;
+    part.system = GicpSystem{};
     part.sum_sq_range = 0.0;
     part.sum_y.setZero();
     part.inliers = 0;
@@ -51,8 +49,7 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
         return;
       }
       const Eigen::Vector3d r = target.point(j).template cast<double>() - y;
-      part.cost +=
-          accumulate_gicp_factor(y, r, M, setting_.kernel, setting_.kernel_width, part.H, part.b);
+      part.system.add(y, r, M, setting_.kernel, setting_.kernel_width);
       part.sum_y += y;
       part.sum_sq_range += y.squaredNorm();
       ++part.inliers;
@@ -63,9 +60,8 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
   });
   Linearization lin;
   for (const Partial& part : partials_) {  // fixed order: bit-identical sums
-    lin.H += part.H;
-    lin.b += part.b;
-    lin.cost += part.cost;
+    part.system.add_to(lin.H, lin.b);
+    lin.cost += part.system.cost;
     lin.sum_sq_range += part.sum_sq_range;
     lin.sum_y += part.sum_y;
     lin.inliers += part.inliers;

@@ -46,8 +46,7 @@ int OrganizedKnn::knn(const PixelGrid& grid, const std::vector<Eigen::Vector3f>&
   list.sq_dists = sq_dists;
   std::uint32_t o = 0;
   for (int c = 0; c <= max_ring_; ++c) {
-    const bool inside =
-        cu - c >= 0 && cu + c < grid.width && cv - c >= 0 && cv + c < grid.height;
+    const bool inside = cu - c >= 0 && cu + c < grid.width && cv - c >= 0 && cv + c < grid.height;
     const std::uint32_t end = ring_end_[static_cast<std::size_t>(c)];
     for (; o < end; ++o) {
       const int u = cu + offsets_[o].du;
@@ -57,7 +56,8 @@ int OrganizedKnn::knn(const PixelGrid& grid, const std::vector<Eigen::Vector3f>&
       }
       const std::int32_t j = grid.point_at[static_cast<std::size_t>(v) * grid.width + u];
       if (j >= 0) {
-        list.offer(static_cast<std::uint32_t>(j), (points_m[static_cast<std::size_t>(j)] - p).squaredNorm());
+        list.offer(static_cast<std::uint32_t>(j),
+                   (points_m[static_cast<std::size_t>(j)] - p).squaredNorm());
       }
     }
     if (list.count == k) {

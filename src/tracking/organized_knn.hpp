@@ -39,7 +39,7 @@ class OrganizedKnn {
     std::int32_t du, dv;
   };
   int max_ring_;
-  std::vector<Offset> offsets_;        ///< ring by ring; within a ring by distance
+  std::vector<Offset> offsets_;          ///< ring by ring; within a ring by distance
   std::vector<std::uint32_t> ring_end_;  ///< offsets_[ring_end_[c - 1], ring_end_[c]) is ring c
 };
 

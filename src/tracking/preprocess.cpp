@@ -25,8 +25,8 @@ DepthToPointsStats FramePreprocessor::process(const io::ImageF32& depth_m, const
 
 void FramePreprocessor::covariances(GaussianCloud& out, KdTree* tree) {
   last_fallbacks_ = 0;
-  const bool organised = setting_.covariance.knn_search == KnnSearch::image_grid &&
-                         grid_.describes(out.size());
+  const bool organised =
+      setting_.covariance.knn_search == KnnSearch::image_grid && grid_.describes(out.size());
   if (!organised) {
     if (tree == nullptr) {
       fallback_tree_.build(out.points_m, team_);

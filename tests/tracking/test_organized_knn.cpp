@@ -97,8 +97,8 @@ io::ImageF32 hostile_depth(int w, int h) {
     for (int u = 0; u < w; ++u) {
       float z = 1.0f + 0.08f * static_cast<float>(u);  // grazing wall: depth grows fast with u
       if (u > w / 3 && u < w / 2 && v > h / 4 && v < 3 * h / 4) z = 0.8f;  // box edge
-      if (u < w / 8 && v < h / 8) z = 0.12f;                                // near the lens
-      if ((u * 7 + v * 13) % 23 == 0) z = 0.0f;                              // holes
+      if (u < w / 8 && v < h / 8) z = 0.12f;                               // near the lens
+      if ((u * 7 + v * 13) % 23 == 0) z = 0.0f;                            // holes
       depth.at(u, v) = z + noise(rng);
     }
   }
