@@ -11,25 +11,39 @@
 //    gs_icp_slam, FastGICP::calculate_covariances): eigenvalues divided by the MIDDLE one,
 //    (l1/l2, 1, l3/l2), each clamped below at epsilon (1e-3). The ellipse keeps its shape
 //    but is scale-free (dimensionless). GS-ICP sets 1e-9*I when l2 == 0 (collinear or
-//    coincident neighbours); we use the identity there instead, because a near-zero
+//    coincident neighbours); we use the identity there instead (and for l2 < 1e-7 l1, below the
+//    float resolution of the covariance), because a near-zero
 //    covariance would outweigh every other correspondence. GS-ICP also drops neighbours
 //    whose squared distance exceeds knn_max_distance (its script default 99999 m^2, i.e.
 //    off) and divides by k rather than by the neighbours kept; with the filter off both
 //    agree with this implementation.
 //  - plane: U diag(1, 1, epsilon) U^T (fast_gicp's PLANE): every point a flat disc.
 //  - none: the raw covariance (m^2), unchanged.
+#include <cstdint>
+#include <vector>
+
 #include "tracking/fork_join.hpp"
 #include "tracking/gaussian_cloud.hpp"
 #include "tracking/kdtree.hpp"
+#include "tracking/organized_knn.hpp"
+#include "tracking/pixel_grid.hpp"
 
 namespace vigs::tracking {
 
 enum class Regularization { normalized_ellipse, plane, none };
 
+/// How the k nearest neighbours are found. Both give the exact kNN (they may differ only in
+/// which of several equidistant points is kept).
+enum class KnnSearch {
+  image_grid,  ///< through the depth image (organized_knn.hpp), kd-tree where uncertified
+  kd_tree,     ///< kd-tree over the points (kdtree.hpp)
+};
+
 struct CovarianceSetting {
   int k_neighbors = 10;  ///< includes the point itself, as GS-ICP SLAM's kd-tree query does
   Regularization regularization = Regularization::normalized_ellipse;
   double epsilon = 1e-3;  ///< smallest regularised eigenvalue
+  KnnSearch knn_search = KnnSearch::image_grid;
 };
 
 /// Regularised covariance of one raw covariance (see the header comment).
@@ -40,5 +54,17 @@ Eigen::Matrix3f regularize_covariance(const Eigen::Matrix3f& raw_m2,
 /// cloud.points_m. Points go to the team in fixed blocks (ForkJoin::for_each_interleaved).
 void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, ForkJoin& team,
                           GaussianCloud& cloud);
+
+/// The same for an organised cloud (`grid` describes it), neighbours from `knn` through the
+/// image. Points the image search cannot certify are not filled: team member t appends them to
+/// pending[t] (cleared first; one vector per member, reserved by the caller to stay
+/// allocation-free) for estimate_covariances_of().
+void estimate_covariances(const PixelGrid& grid, const OrganizedKnn& knn,
+                          const CovarianceSetting& setting, ForkJoin& team, GaussianCloud& cloud,
+                          std::vector<std::vector<std::uint32_t>>& pending);
+
+/// Covariances of the listed points only (cov vectors already sized), neighbours from `tree`.
+void estimate_covariances_of(const KdTree& tree, const CovarianceSetting& setting,
+                             const std::vector<std::uint32_t>& points, GaussianCloud& cloud);
 
 }  // namespace vigs::tracking

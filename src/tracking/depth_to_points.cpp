@@ -31,7 +31,8 @@ void check_sizes(int width, int height, const io::ImageU8& rgb, const PinholeCam
 
 template <class DepthAt>
 DepthToPointsStats DepthToPoints::convert_impl(int width, int height, DepthAt depth_at,
-                                               const io::ImageU8& rgb, GaussianCloud& out) {
+                                               const io::ImageU8& rgb, GaussianCloud& out,
+                                               PixelGrid* grid) {
   check_sizes(width, height, rgb, camera_);
   out.clear();
   const int stride = std::max(1, setting_.pixel_stride);
@@ -39,6 +40,15 @@ DepthToPointsStats DepthToPoints::convert_impl(int width, int height, DepthAt de
                        ((height + stride - 1) / stride));
   out.colors_rgb.reserve(out.points_m.capacity());
   DepthToPointsStats stats;
+  if (grid != nullptr) {
+    grid->width = (width + stride - 1) / stride;
+    grid->height = (height + stride - 1) / stride;
+    grid->stride_px = stride;
+    grid->camera = camera_;
+    grid->point_at.assign(static_cast<std::size_t>(grid->width) * grid->height, -1);
+    grid->cell_of.clear();
+    grid->cell_of.reserve(grid->point_at.size());
+  }
   const double inv_fx = 1.0 / camera_.fx_px;
   const double inv_fy = 1.0 / camera_.fy_px;
   for (int v = 0; v < height; v += stride) {
@@ -60,6 +70,12 @@ DepthToPointsStats DepthToPoints::convert_impl(int width, int height, DepthAt de
       out.points_m.emplace_back(static_cast<float>((u - camera_.cx_px) * z * inv_fx),
                                 static_cast<float>((v - camera_.cy_px) * z * inv_fy),
                                 static_cast<float>(z));
+      if (grid != nullptr) {
+        const std::size_t cell = static_cast<std::size_t>(v / stride) * grid->width +
+                                 static_cast<std::size_t>(u / stride);
+        grid->point_at[cell] = static_cast<std::int32_t>(out.points_m.size() - 1);
+        grid->cell_of.push_back(static_cast<std::uint32_t>(cell));
+      }
       if (rgb.empty()) {
         out.colors_rgb.push_back({0, 0, 0});
       } else {
@@ -70,24 +86,28 @@ DepthToPointsStats DepthToPoints::convert_impl(int width, int height, DepthAt de
   }
   if (setting_.voxel_size_m > 0.0) {
     voxel_average(out);
+    if (grid != nullptr) {
+      grid->clear();
+    }
   }
   stats.points = static_cast<int>(out.size());
   return stats;
 }
 
 DepthToPointsStats DepthToPoints::convert(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                                          GaussianCloud& out) {
+                                          GaussianCloud& out, PixelGrid* grid) {
   if (depth_m.channels != 1) {
     throw std::invalid_argument("depth image must have 1 channel, has " +
                                 std::to_string(depth_m.channels));
   }
   return convert_impl(
       depth_m.width, depth_m.height,
-      [&depth_m](int u, int v) { return static_cast<double>(depth_m.at(u, v)); }, rgb, out);
+      [&depth_m](int u, int v) { return static_cast<double>(depth_m.at(u, v)); }, rgb, out, grid);
 }
 
 DepthToPointsStats DepthToPoints::convert(const io::ImageU16& depth_raw, double depth_scale_m,
-                                          const io::ImageU8& rgb, GaussianCloud& out) {
+                                          const io::ImageU8& rgb, GaussianCloud& out,
+                                          PixelGrid* grid) {
   if (depth_raw.channels != 1) {
     throw std::invalid_argument("depth image must have 1 channel, has " +
                                 std::to_string(depth_raw.channels));
@@ -95,7 +115,7 @@ DepthToPointsStats DepthToPoints::convert(const io::ImageU16& depth_raw, double 
   return convert_impl(
       depth_raw.width, depth_raw.height,
       [&depth_raw, depth_scale_m](int u, int v) { return depth_raw.at(u, v) * depth_scale_m; }, rgb,
-      out);
+      out, grid);
 }
 
 // Sort (voxel key, index) pairs and average each run: deterministic, no hash map, and the

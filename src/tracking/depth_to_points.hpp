@@ -9,6 +9,7 @@
 #include "core/types/pinhole_camera.hpp"
 #include "io/image.hpp"
 #include "tracking/gaussian_cloud.hpp"
+#include "tracking/pixel_grid.hpp"
 
 namespace vigs::tracking {
 
@@ -35,12 +36,13 @@ class DepthToPoints {
 
   /// Depth in metres (e.g. io::read_depth_m). `rgb` is empty or a 3-channel image of the same
   /// size; without it colours are 0. Output: points_m and colors_rgb of `out` (covariances are
-  /// cleared). Throws std::invalid_argument on mismatched image sizes.
+  /// cleared). With `grid`, also where each point came from (cleared when the voxel grid
+  /// resamples the cloud). Throws std::invalid_argument on mismatched image sizes.
   DepthToPointsStats convert(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                             GaussianCloud& out);
+                             GaussianCloud& out, PixelGrid* grid = nullptr);
   /// Raw 16-bit depth times `depth_scale_m` (0.001 for millimetres).
   DepthToPointsStats convert(const io::ImageU16& depth_raw, double depth_scale_m,
-                             const io::ImageU8& rgb, GaussianCloud& out);
+                             const io::ImageU8& rgb, GaussianCloud& out, PixelGrid* grid = nullptr);
 
   [[nodiscard]] const Setting& setting() const { return setting_; }
   [[nodiscard]] const PinholeCamera& camera() const { return camera_; }
@@ -48,7 +50,7 @@ class DepthToPoints {
  private:
   template <class DepthAt>
   DepthToPointsStats convert_impl(int width, int height, DepthAt depth_at, const io::ImageU8& rgb,
-                                  GaussianCloud& out);
+                                  GaussianCloud& out, PixelGrid* grid);
   void voxel_average(GaussianCloud& out);
 
   PinholeCamera camera_;

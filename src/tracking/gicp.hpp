@@ -81,9 +81,7 @@ class Gicp {
 
  private:
   struct Partial {
-    Matrix6d H;
-    Vector6d b;
-    double cost;
+    GicpSystem system;
     double sum_sq_range;
     Eigen::Vector3d sum_y;
     int inliers;
@@ -105,6 +103,10 @@ class Gicp {
   Setting setting_;
   ForkJoin team_;
   std::vector<Partial> partials_;
+  /// Per source point, its target match at the previous linearisation of this align() call
+  /// (KdTree::kNoHint when none): seeds the next nearest-neighbour search of targets that
+  /// take a hint. Grows with the largest source seen, then is reused.
+  std::vector<std::uint32_t> hints_;
 };
 
 /// GICP target made of one frame's cloud and a kd-tree over its points.
@@ -112,9 +114,9 @@ struct CloudTarget {
   const GaussianCloud* cloud = nullptr;
   const KdTree* tree = nullptr;
 
-  bool nearest(const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t& index,
-               float& sq_dist) const {
-    return tree->nearest(q, max_sq_dist, index, sq_dist);
+  bool nearest(const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t& index, float& sq_dist,
+               std::uint32_t hint = KdTree::kNoHint) const {
+    return tree->nearest(q, max_sq_dist, index, sq_dist, hint);
   }
   [[nodiscard]] const Eigen::Vector3f& point(std::uint32_t i) const { return cloud->points_m[i]; }
   [[nodiscard]] const Eigen::Matrix3f& cov(std::uint32_t i) const { return cloud->cov_m2[i]; }

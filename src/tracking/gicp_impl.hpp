@@ -9,6 +9,8 @@
 
 namespace vigs::tracking {
 
+inline constexpr std::size_t kBlock = 256;  ///< source points per work block
+
 template <class Target>
 Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& source,
                                     const geometry::Pose& T_t_s) {
@@ -21,18 +23,24 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
   const std::size_t n = source.size();
   team_.run([&](int th) {
     Partial& part = partials_[static_cast<std::size_t>(th)];
-    part.H.setZero();
-    part.b.setZero();
-    part.cost = 0.0;
+    part.system = GicpSystem{};
     part.sum_sq_range = 0.0;
     part.sum_y.setZero();
     part.inliers = 0;
     part.overlapping = 0;
-    ForkJoin::for_each_interleaved(n, th, team_.size(), 256, [&](std::size_t i) {
+    ForkJoin::for_each_interleaved(n, th, team_.size(), kBlock, [&](std::size_t i) {
       const Eigen::Vector3d y = R * source.points_m[i].cast<double>() + t;
       std::uint32_t j = 0;
       float d2 = 0.0f;
-      if (!target.nearest(y.cast<float>(), max_sq, j, d2)) {
+      bool matched = false;
+      if constexpr (requires { target.nearest(y.cast<float>(), max_sq, j, d2, hints_[i]); }) {
+        // Hint: this point's match at the last linearisation (none at the first).
+        matched = target.nearest(y.cast<float>(), max_sq, j, d2, hints_[i]);
+        hints_[i] = matched ? j : KdTree::kNoHint;
+      } else {
+        matched = target.nearest(y.cast<float>(), max_sq, j, d2);
+      }
+      if (!matched) {
         return;
       }
       Eigen::Matrix3d M;
@@ -41,8 +49,7 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
         return;
       }
       const Eigen::Vector3d r = target.point(j).template cast<double>() - y;
-      part.cost +=
-          accumulate_gicp_factor(y, r, M, setting_.kernel, setting_.kernel_width, part.H, part.b);
+      part.system.add(y, r, M, setting_.kernel, setting_.kernel_width);
       part.sum_y += y;
       part.sum_sq_range += y.squaredNorm();
       ++part.inliers;
@@ -53,9 +60,8 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
   });
   Linearization lin;
   for (const Partial& part : partials_) {  // fixed order: bit-identical sums
-    lin.H += part.H;
-    lin.b += part.b;
-    lin.cost += part.cost;
+    part.system.add_to(lin.H, lin.b);
+    lin.cost += part.system.cost;
     lin.sum_sq_range += part.sum_sq_range;
     lin.sum_y += part.sum_y;
     lin.inliers += part.inliers;
@@ -73,6 +79,7 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
     return result;  // verdict stays diverged: nothing to start from
   }
   geometry::Pose T = T_t_s_init;
+  hints_.assign(source.size(), KdTree::kNoHint);  // allocates only when the source grows
   Linearization lin = linearize(target, source, T);
   double lambda = setting_.lm_lambda_init;
   bool converged = false;

@@ -1,11 +1,17 @@
 #pragma once
-// One RGB-D frame to a GaussianCloud ready for GICP: points (depth_to_points.hpp), a kd-tree
-// over them, and kNN covariances (covariance.hpp). The tree stays valid for the cloud, so the
-// frame can serve as a GICP target (CloudTarget) as well as a source.
+// One RGB-D frame to a GaussianCloud ready for GICP: points (depth_to_points.hpp) and kNN
+// covariances (covariance.hpp), the neighbours found through the depth image
+// (organized_knn.hpp) or a kd-tree, as CovarianceSetting::knn_search says. A frame that will
+// serve as a GICP target (CloudTarget) also gets a kd-tree over its points.
+#include <cstdint>
+#include <vector>
+
 #include "tracking/covariance.hpp"
 #include "tracking/depth_to_points.hpp"
 #include "tracking/fork_join.hpp"
 #include "tracking/kdtree.hpp"
+#include "tracking/organized_knn.hpp"
+#include "tracking/pixel_grid.hpp"
 
 namespace vigs::tracking {
 
@@ -18,29 +24,41 @@ class FramePreprocessor {
   };
 
   /// `team` is shared with the caller's other parallel work and must outlive this object.
-  FramePreprocessor(const PinholeCamera& camera, const Setting& setting, ForkJoin& team)
-      : depth_(camera, setting.depth), setting_(setting), team_(&team) {}
+  FramePreprocessor(const PinholeCamera& camera, const Setting& setting, ForkJoin& team);
 
-  /// Depth in metres; `rgb` empty or 3-channel of the same size. `tree` is rebuilt over out.
+  /// Depth in metres; `rgb` empty or 3-channel of the same size. A GICP source: no tree.
   DepthToPointsStats process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                             GaussianCloud& out, KdTree& tree) {
-    const DepthToPointsStats stats = depth_.convert(depth_m, rgb, out);
-    finish(out, tree);
-    return stats;
-  }
+                             GaussianCloud& out);
+  /// The same, and `tree` rebuilt over out's points (a GICP target).
+  DepthToPointsStats process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
+                             GaussianCloud& out, KdTree& tree);
 
-  /// Covariances for points already in `cloud.points_m` (e.g. loaded from a file).
+  /// Covariances for points already in `cloud.points_m` (e.g. loaded from a file; no image,
+  /// so always through `tree`, which is rebuilt over them).
   void finish(GaussianCloud& cloud, KdTree& tree) const {
     tree.build(cloud.points_m, team_);
     estimate_covariances(tree, setting_.covariance, *team_, cloud);
   }
 
+  /// Points of the last processed frame whose neighbours the image search could not certify
+  /// (found with the kd-tree instead); 0 with KnnSearch::kd_tree.
+  [[nodiscard]] std::size_t last_knn_fallbacks() const { return last_fallbacks_; }
+  [[nodiscard]] const PixelGrid& last_grid() const { return grid_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
 
  private:
+  /// Covariances of `out`; `tree` is over out's points or null (built here when needed).
+  void covariances(GaussianCloud& out, KdTree* tree);
+
   DepthToPoints depth_;
   Setting setting_;
   ForkJoin* team_;
+  PixelGrid grid_;
+  OrganizedKnn organized_;
+  KdTree fallback_tree_;
+  std::vector<std::vector<std::uint32_t>> pending_;  ///< per team member
+  std::vector<std::uint32_t> fallback_points_;
+  std::size_t last_fallbacks_ = 0;
 };
 
 }  // namespace vigs::tracking

@@ -30,6 +30,7 @@ inline FramePreprocessor::Setting preprocess_setting(const config::TrackingSetti
   s.depth.far_m = c.far_m;
   s.covariance.k_neighbors = c.k_neighbors;
   s.covariance.regularization = regularization_from_string(c.regularization);
+  s.covariance.knn_search = c.knn_search == "kdtree" ? KnnSearch::kd_tree : KnnSearch::image_grid;
   s.covariance.epsilon = c.regularization_epsilon;
   return s;
 }

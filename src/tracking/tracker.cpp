@@ -58,7 +58,7 @@ TrackingOutput Tracker::track(std::int64_t t_ns, const io::ImageF32& depth_m,
                               const io::ImageU8& rgb, const geometry::Pose* T_w_c_imu) {
   TrackingOutput out;
   out.t_ns = t_ns;
-  out.points = pre_.process(depth_m, rgb, cloud_, tree_);
+  out.points = pre_.process(depth_m, rgb, cloud_);
   if (frames_ == 0) {
     out.T_w_c = out.T_w_c_guess = T_w_c_imu != nullptr ? *T_w_c_imu : T_w_c0_;
     out.status = TrackingStatus::initialized;

@@ -78,7 +78,6 @@ class Tracker {
   LocalMap map_;
   KeyframePolicy policy_;
   GaussianCloud cloud_;
-  KdTree tree_;
   Keyframe keyframe_;
   int frames_ = 0;
   geometry::Pose T_w_last_ = geometry::Pose::Identity();

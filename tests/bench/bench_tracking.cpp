@@ -68,10 +68,12 @@ const Data& data() {
   return d;
 }
 
-FramePreprocessor::Setting pre_setting(Regularization reg = Regularization::normalized_ellipse) {
+FramePreprocessor::Setting pre_setting(Regularization reg = Regularization::normalized_ellipse,
+                                       KnnSearch knn = KnnSearch::image_grid) {
   FramePreprocessor::Setting s;
   s.depth.pixel_stride = 4;
   s.covariance.regularization = reg;
+  s.covariance.knn_search = knn;
   return s;
 }
 
@@ -87,8 +89,29 @@ void BM_DepthToPoints(benchmark::State& state) {
 }
 BENCHMARK(BM_DepthToPoints)->Unit(benchmark::kMillisecond);
 
-// Points + kd-tree + covariances of one frame.
+// Points + covariances of one frame, as a GICP source (what the tracker does per frame):
+// neighbours through the image (knn_kdtree:0, the default) or a kd-tree (1).
 void BM_Preprocess(benchmark::State& state) {
+  const Data& d = data();
+  ForkJoin team(static_cast<int>(state.range(0)));
+  const KnnSearch knn = state.range(1) == 0 ? KnnSearch::image_grid : KnnSearch::kd_tree;
+  FramePreprocessor pre(d.camera, pre_setting(Regularization::normalized_ellipse, knn), team);
+  GaussianCloud cloud;
+  for (auto _ : state) {
+    pre.process(d.depth0, d.rgb0, cloud);
+    benchmark::DoNotOptimize(cloud.cov_m2.data());
+  }
+  state.counters["points"] = static_cast<double>(cloud.size());
+  state.counters["knn_fallbacks"] = static_cast<double>(pre.last_knn_fallbacks());
+}
+BENCHMARK(BM_Preprocess)
+    ->ArgNames({"threads", "knn_kdtree"})
+    ->ArgsProduct({{1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The same plus a kd-tree over the points, as for a GICP target (CloudTarget).
+void BM_PreprocessTarget(benchmark::State& state) {
   const Data& d = data();
   ForkJoin team(static_cast<int>(state.range(0)));
   FramePreprocessor pre(d.camera, pre_setting(), team);
@@ -100,7 +123,7 @@ void BM_Preprocess(benchmark::State& state) {
   }
   state.counters["points"] = static_cast<double>(cloud.size());
 }
-BENCHMARK(BM_Preprocess)
+BENCHMARK(BM_PreprocessTarget)
     ->ArgName("threads")
     ->Arg(1)
     ->Arg(2)
@@ -129,6 +152,27 @@ BENCHMARK(BM_KnnOwnKdTree)
     ->Arg(16)
     ->Arg(32)
     ->Unit(benchmark::kMillisecond);
+
+// The image-grid search on the same workload (k = 10 for every point; no build step, the grid
+// comes with the points). Uncertified points are counted, not searched.
+void BM_KnnImageGrid(benchmark::State& state) {
+  const Data& d = data();
+  GaussianCloud cloud;
+  PixelGrid grid;
+  DepthToPoints(d.camera, pre_setting().depth).convert(d.depth0, d.rgb0, cloud, &grid);
+  const OrganizedKnn knn;
+  std::uint32_t idx[10];
+  float d2[10];
+  int uncertified = 0;
+  for (auto _ : state) {
+    uncertified = 0;
+    for (std::uint32_t i = 0; i < cloud.size(); ++i) {
+      uncertified += knn.knn(grid, cloud.points_m, i, 10, idx, d2) < 0 ? 1 : 0;
+    }
+  }
+  state.counters["uncertified"] = uncertified;
+}
+BENCHMARK(BM_KnnImageGrid)->Unit(benchmark::kMillisecond);
 
 void BM_KdTreeBuild(benchmark::State& state) {
   const Data& d = data();
@@ -245,7 +289,7 @@ void BM_TrackingStep(benchmark::State& state) {
   const geometry::Pose init = state.range(0) == 0 ? geometry::Pose::Identity() : d.T_2_0_imu;
   GicpResult r;
   for (auto _ : state) {
-    pre.process(d.depth0, d.rgb0, p.src, p.src_tree);
+    pre.process(d.depth0, d.rgb0, p.src);
     r = gicp.align(CloudTarget{&p.tgt, &p.tgt_tree}, p.src, init);
     benchmark::DoNotOptimize(r.T_t_s.data());
   }

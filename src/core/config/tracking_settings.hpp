@@ -18,6 +18,7 @@ struct TrackingSettings {
   int k_neighbors = 10;                               ///< kNN for per-point covariances
   std::string regularization = "normalized_ellipse";  ///< normalized_ellipse | plane | none
   double regularization_epsilon = 1e-3;               ///< smallest eigenvalue (relative)
+  std::string knn_search = "image_grid";              ///< image_grid | kdtree
   // GICP.
   double max_correspondence_distance_m = 0.1;  ///< farther nearest neighbours are outliers
   std::string robust_kernel = "huber";         ///< none | huber | cauchy
@@ -54,6 +55,9 @@ struct TrackingSettings {
             "covariance regularisation (GS-ICP SLAM's normalised ellipse, plane (1,1,eps), none)");
     v.field("regularization_epsilon", regularization_epsilon,
             {"-", 1e-9, 1.0, "smallest eigenvalue after regularisation (relative)"});
+    v.field("knn_search", knn_search, {"image_grid", "kdtree"},
+            "how covariance neighbours are found: through the depth image (exact, kd-tree where "
+            "uncertified) or a kd-tree");
     v.field("max_correspondence_distance_m", max_correspondence_distance_m,
             {"m", 1e-4, 100.0, "nearest neighbours farther than this are outliers"});
     v.field("robust_kernel", robust_kernel, {"none", "huber", "cauchy"},

@@ -1,0 +1,46 @@
+#pragma once
+// Exact k-nearest-neighbour search among the points of one depth image, through the image
+// (the idea of PCL's OrganizedNeighbor, written here for this project). Cells of the pixel grid
+// are visited in square rings of growing Chebyshev radius around the query's cell, nearest
+// first, and the search stops as soon as no point in an unvisited ring can be closer than the
+// k-th found so far. The stopping rule is a certificate, not a heuristic: a point q whose pixel
+// lies a >= 0 pixels from the query p = (x, y, z)'s pixel along u satisfies
+//     |q - p| >= a z^2 / (fx sqrt(x^2 + z^2) + a z)
+// (from |du| = fx |z dx - x dz| / (z (z + dz)) <= fx sqrt(x^2 + z^2) r / (z (z - r)) for
+// |q - p| <= r < z), and likewise along v; ring c + 1 is at least (c + 1) * stride - 0.5 pixels
+// away in u or v. So the result equals a kd-tree's up to the order of equidistant points.
+// When no certificate is reached within max_ring rings (isolated points, points at the image
+// border with few neighbours), knn() returns -1 and the caller falls back to a kd-tree.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "tracking/pixel_grid.hpp"
+
+namespace vigs::tracking {
+
+class OrganizedKnn {
+ public:
+  static constexpr int kDefaultMaxRing = 10;
+
+  /// Precomputes the ring offsets (allocates); knn() does not allocate.
+  explicit OrganizedKnn(int max_ring = kDefaultMaxRing);
+
+  /// The k nearest points to point i of the cloud `grid` describes, nearest first (the point
+  /// itself included, at distance 0); original indices and squared distances (m^2). Returns k,
+  /// or -1 when not certified within max_ring rings (or the cloud has fewer than k points).
+  int knn(const PixelGrid& grid, const std::vector<Eigen::Vector3f>& points_m, std::uint32_t i,
+          int k, std::uint32_t* indices, float* sq_dists) const;
+
+  [[nodiscard]] int max_ring() const { return max_ring_; }
+
+ private:
+  struct Offset {
+    std::int32_t du, dv;
+  };
+  int max_ring_;
+  std::vector<Offset> offsets_;          ///< ring by ring; within a ring by distance
+  std::vector<std::uint32_t> ring_end_;  ///< offsets_[ring_end_[c - 1], ring_end_[c]) is ring c
+};
+
+}  // namespace vigs::tracking

@@ -1,0 +1,54 @@
+#include "tracking/preprocess.hpp"
+
+namespace vigs::tracking {
+
+FramePreprocessor::FramePreprocessor(const PinholeCamera& camera, const Setting& setting,
+                                     ForkJoin& team)
+    : depth_(camera, setting.depth), setting_(setting), team_(&team), fallback_tree_(setting.tree) {
+  pending_.resize(static_cast<std::size_t>(team.size()));
+}
+
+DepthToPointsStats FramePreprocessor::process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
+                                              GaussianCloud& out) {
+  const DepthToPointsStats stats = depth_.convert(depth_m, rgb, out, &grid_);
+  covariances(out, nullptr);
+  return stats;
+}
+
+DepthToPointsStats FramePreprocessor::process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
+                                              GaussianCloud& out, KdTree& tree) {
+  const DepthToPointsStats stats = depth_.convert(depth_m, rgb, out, &grid_);
+  tree.build(out.points_m, team_);
+  covariances(out, &tree);
+  return stats;
+}
+
+void FramePreprocessor::covariances(GaussianCloud& out, KdTree* tree) {
+  last_fallbacks_ = 0;
+  const bool organised =
+      setting_.covariance.knn_search == KnnSearch::image_grid && grid_.describes(out.size());
+  if (!organised) {
+    if (tree == nullptr) {
+      fallback_tree_.build(out.points_m, team_);
+      tree = &fallback_tree_;
+    }
+    estimate_covariances(*tree, setting_.covariance, *team_, out);
+    return;
+  }
+  estimate_covariances(grid_, organized_, setting_.covariance, *team_, out, pending_);
+  fallback_points_.clear();
+  for (const std::vector<std::uint32_t>& part : pending_) {  // team order: deterministic
+    fallback_points_.insert(fallback_points_.end(), part.begin(), part.end());
+  }
+  last_fallbacks_ = fallback_points_.size();
+  if (fallback_points_.empty()) {
+    return;
+  }
+  if (tree == nullptr) {
+    fallback_tree_.build(out.points_m);
+    tree = &fallback_tree_;
+  }
+  estimate_covariances_of(*tree, setting_.covariance, fallback_points_, out);
+}
+
+}  // namespace vigs::tracking
