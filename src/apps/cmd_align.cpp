@@ -82,24 +82,27 @@ int run_align(const AlignOptions& o) {
   tracking::ForkJoin team(ts.num_threads);
   tracking::FramePreprocessor pre(camera, tracking::preprocess_setting(ts), team);
   tracking::GaussianCloud src, tgt;
-  tracking::KdTree src_tree, tgt_tree;
+  tracking::KdTree tgt_tree;
+  tracking::PixelGrid tgt_grid;
   const auto t_pre = Clock::now();
   const auto process = [&pre](const io::ImageF32& depth, const io::ImageU8& rgb,
                               const std::vector<std::string>& files, tracking::GaussianCloud& cloud,
-                              tracking::KdTree& tree) {
+                              tracking::KdTree* tree, tracking::PixelGrid* grid) {
     try {
-      return pre.process(depth, rgb, cloud, tree);
+      return tree != nullptr ? pre.process(depth, rgb, cloud, *tree, grid)
+                             : pre.process(depth, rgb, cloud);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(files[0] + ", " + files[1] + ": " + e.what());
     }
   };
-  const auto src_stats = process(src_depth, src_rgb, o.source, src, src_tree);
-  const auto tgt_stats = process(tgt_depth, tgt_rgb, o.target, tgt, tgt_tree);
+  const auto src_stats = process(src_depth, src_rgb, o.source, src, nullptr, nullptr);
+  const auto tgt_stats = process(tgt_depth, tgt_rgb, o.target, tgt, &tgt_tree, &tgt_grid);
   const double pre_ms = ms_since(t_pre);
 
   tracking::Gicp gicp(tracking::gicp_setting(ts));
   const auto t_align = Clock::now();
-  const tracking::GicpResult r = gicp.align(tracking::CloudTarget{&tgt, &tgt_tree}, src, T_init);
+  const tracking::GicpResult r =
+      gicp.align(tracking::CloudTarget{&tgt, &tgt_tree, &tgt_grid}, src, T_init);
   const double align_ms = ms_since(t_align);
 
   const Eigen::Quaterniond q(r.T_t_s.linear());

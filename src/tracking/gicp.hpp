@@ -20,6 +20,8 @@
 #include "tracking/gaussian_cloud.hpp"
 #include "tracking/gicp_factor.hpp"
 #include "tracking/kdtree.hpp"
+#include "tracking/organized_knn.hpp"
+#include "tracking/pixel_grid.hpp"
 
 namespace vigs::tracking {
 
@@ -109,13 +111,24 @@ class Gicp {
   std::vector<std::uint32_t> hints_;
 };
 
-/// GICP target made of one frame's cloud and a kd-tree over its points.
+/// GICP target made of one frame's cloud and a kd-tree over its points, and optionally the
+/// frame's pixel grid (FramePreprocessor::process with a grid): correspondences are then found
+/// through the image (OrganizedKnn::nearest, exact), the tree serving queries the image
+/// search cannot certify.
 struct CloudTarget {
   const GaussianCloud* cloud = nullptr;
   const KdTree* tree = nullptr;
+  const PixelGrid* grid = nullptr;
 
   bool nearest(const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t& index, float& sq_dist,
                std::uint32_t hint = KdTree::kNoHint) const {
+    if (grid != nullptr && grid->describes(cloud->size())) {
+      const int r = OrganizedKnn::shared().nearest(*grid, cloud->points_m, q, max_sq_dist, hint,
+                                                   index, sq_dist);
+      if (r >= 0) {
+        return r == 1;
+      }
+    }
     return tree->nearest(q, max_sq_dist, index, sq_dist, hint);
   }
   [[nodiscard]] const Eigen::Vector3f& point(std::uint32_t i) const { return cloud->points_m[i]; }

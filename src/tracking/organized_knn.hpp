@@ -11,6 +11,10 @@
 // away in u or v. So the result equals a kd-tree's up to the order of equidistant points.
 // When no certificate is reached within max_ring rings (isolated points, points at the image
 // border with few neighbours), knn() returns -1 and the caller falls back to a kd-tree.
+//
+// nearest() answers the same question for any query point in the camera frame (a GICP
+// correspondence): its projection's cell is the centre, and a cell c + 1 rings out is at least
+// (c + 0.5) * stride - 0.01 pixels from the projection.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -32,7 +36,17 @@ class OrganizedKnn {
   int knn(const PixelGrid& grid, const std::vector<Eigen::Vector3f>& points_m, std::uint32_t i,
           int k, std::uint32_t* indices, float* sq_dists) const;
 
+  /// Nearest point of the cloud `grid` describes to q (camera frame, metres) strictly within
+  /// sqrt(max_sq_dist): 1 (index, sq_dist set), 0 when certainly none, -1 when not certified
+  /// (q behind the camera or projecting far outside the image, or max_ring rings not enough).
+  /// `hint` (a point index, or 0xffffffff) is tried first to tighten the bound.
+  int nearest(const PixelGrid& grid, const std::vector<Eigen::Vector3f>& points_m,
+              const Eigen::Vector3f& q, float max_sq_dist, std::uint32_t hint, std::uint32_t& index,
+              float& sq_dist) const;
+
   [[nodiscard]] int max_ring() const { return max_ring_; }
+  /// An instance with the default ring count, built once (for GICP targets).
+  static const OrganizedKnn& shared();
 
  private:
   struct Offset {

@@ -16,10 +16,13 @@ DepthToPointsStats FramePreprocessor::process(const io::ImageF32& depth_m, const
 }
 
 DepthToPointsStats FramePreprocessor::process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                                              GaussianCloud& out, KdTree& tree) {
+                                              GaussianCloud& out, KdTree& tree, PixelGrid* grid) {
   const DepthToPointsStats stats = depth_.convert(depth_m, rgb, out, &grid_);
   tree.build(out.points_m, team_);
   covariances(out, &tree);
+  if (grid != nullptr) {
+    *grid = grid_;  // reuses grid's capacity
+  }
   return stats;
 }
 

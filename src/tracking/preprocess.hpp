@@ -29,9 +29,10 @@ class FramePreprocessor {
   /// Depth in metres; `rgb` empty or 3-channel of the same size. A GICP source: no tree.
   DepthToPointsStats process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
                              GaussianCloud& out);
-  /// The same, and `tree` rebuilt over out's points (a GICP target).
+  /// The same, and `tree` rebuilt over out's points (a GICP target). With `grid`, also a copy
+  /// of the frame's pixel grid (cleared when the cloud is not organised), for CloudTarget.
   DepthToPointsStats process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                             GaussianCloud& out, KdTree& tree);
+                             GaussianCloud& out, KdTree& tree, PixelGrid* grid = nullptr);
 
   /// Covariances for points already in `cloud.points_m` (e.g. loaded from a file; no image,
   /// so always through `tree`, which is rebuilt over them).

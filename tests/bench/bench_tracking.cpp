@@ -236,6 +236,11 @@ BENCHMARK(BM_KnnNanoflann)->Unit(benchmark::kMillisecond);
 struct Prepared {
   GaussianCloud src, tgt;
   KdTree src_tree, tgt_tree;
+  PixelGrid tgt_grid;
+  /// The target as GICP sees it: through the image (grid) or, with kd_tree, the tree alone.
+  [[nodiscard]] CloudTarget target(bool kd_tree) const {
+    return CloudTarget{&tgt, &tgt_tree, kd_tree ? nullptr : &tgt_grid};
+  }
 };
 
 void report(benchmark::State& state, const GicpResult& r) {
@@ -246,7 +251,8 @@ void report(benchmark::State& state, const GicpResult& r) {
   state.counters["converged"] = r.verdict == GicpVerdict::converged ? 1.0 : 0.0;
 }
 
-// Args: guess (0 identity, 1 IMU quality), threads, regularisation (0 ellipse, 1 plane).
+// Args: guess (0 identity, 1 IMU quality), threads, regularisation (0 ellipse, 1 plane),
+// correspondences through the target's kd-tree only (1) or through its image (0, default).
 void BM_Align(benchmark::State& state) {
   const Data& d = data();
   const int threads = static_cast<int>(state.range(1));
@@ -255,49 +261,51 @@ void BM_Align(benchmark::State& state) {
   ForkJoin team(threads);
   FramePreprocessor pre(d.camera, pre_setting(reg), team);
   Prepared p;
-  pre.process(d.depth0, d.rgb0, p.src, p.src_tree);
-  pre.process(d.depth2, d.rgb2, p.tgt, p.tgt_tree);
+  pre.process(d.depth0, d.rgb0, p.src);
+  pre.process(d.depth2, d.rgb2, p.tgt, p.tgt_tree, &p.tgt_grid);
   Gicp::Setting gs;
   gs.num_threads = threads;
   Gicp gicp(gs);
   const geometry::Pose init = state.range(0) == 0 ? geometry::Pose::Identity() : d.T_2_0_imu;
   GicpResult r;
+  const bool kd_tree = state.range(3) != 0;
   for (auto _ : state) {
-    r = gicp.align(CloudTarget{&p.tgt, &p.tgt_tree}, p.src, init);
+    r = gicp.align(p.target(kd_tree), p.src, init);
     benchmark::DoNotOptimize(r.T_t_s.data());
   }
   report(state, r);
 }
 BENCHMARK(BM_Align)
-    ->ArgNames({"imu_guess", "threads", "plane_reg"})
-    ->ArgsProduct({{0, 1}, {1, 2}, {0, 1}})
+    ->ArgNames({"imu_guess", "threads", "plane_reg", "kdtree_target"})
+    ->ArgsProduct({{0, 1}, {1, 2}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
 // The whole tracking step for a new frame: source preprocessing + alignment against the
-// prepared target.
+// prepared target (correspondences through its image, or its kd-tree only with arg 2 = 1).
 void BM_TrackingStep(benchmark::State& state) {
   const Data& d = data();
   const int threads = static_cast<int>(state.range(1));
   ForkJoin team(threads);
   FramePreprocessor pre(d.camera, pre_setting(), team);
   Prepared p;
-  pre.process(d.depth2, d.rgb2, p.tgt, p.tgt_tree);
+  pre.process(d.depth2, d.rgb2, p.tgt, p.tgt_tree, &p.tgt_grid);
   Gicp::Setting gs;
   gs.num_threads = threads;
   Gicp gicp(gs);
   const geometry::Pose init = state.range(0) == 0 ? geometry::Pose::Identity() : d.T_2_0_imu;
+  const bool kd_tree = state.range(2) != 0;
   GicpResult r;
   for (auto _ : state) {
     pre.process(d.depth0, d.rgb0, p.src);
-    r = gicp.align(CloudTarget{&p.tgt, &p.tgt_tree}, p.src, init);
+    r = gicp.align(p.target(kd_tree), p.src, init);
     benchmark::DoNotOptimize(r.T_t_s.data());
   }
   report(state, r);
 }
 BENCHMARK(BM_TrackingStep)
-    ->ArgNames({"imu_guess", "threads"})
-    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"imu_guess", "threads", "kdtree_target"})
+    ->ArgsProduct({{0, 1}, {1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

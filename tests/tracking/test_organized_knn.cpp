@@ -10,6 +10,7 @@
 
 #include "io/image_io.hpp"
 #include "tracking/camera_file.hpp"
+#include "tracking/gicp.hpp"
 #include "tracking/organized_knn.hpp"
 #include "tracking/preprocess.hpp"
 
@@ -185,6 +186,56 @@ TEST(FramePreprocessor, ImageGridResultIsTheSameForOneAndTwoThreads) {
   for (std::size_t i = 0; i < one.size(); ++i) {
     ASSERT_EQ(one.cov_m2[i], two.cov_m2[i]);
   }
+}
+
+// Correspondence search through the image (CloudTarget with a grid) against the kd-tree alone,
+// for queries near the surfaces, off them, projecting outside the image, and behind the camera.
+TEST(OrganizedKnn, NearestEqualsTheKdTreesForAnyQuery) {
+  const io::ImageF32 depth =
+      io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
+  const PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5};
+  ForkJoin team(1);
+  FramePreprocessor::Setting s;
+  FramePreprocessor pre(cam, s, team);
+  GaussianCloud cloud;
+  KdTree tree;
+  PixelGrid grid;
+  pre.process(depth, io::ImageU8{}, cloud, tree, &grid);
+  ASSERT_TRUE(grid.describes(cloud.size()));
+  const CloudTarget by_image{&cloud, &tree, &grid};
+  const CloudTarget by_tree{&cloud, &tree, nullptr};
+  std::mt19937 rng(21);
+  std::normal_distribution<float> n(0.0f, 1.0f);
+  std::uniform_int_distribution<std::size_t> pick(0, cloud.size() - 1);
+  int compared = 0, certified = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Eigen::Vector3f q = cloud.points_m[pick(rng)];
+    const float scale = i % 4 == 0 ? 0.003f : i % 4 == 1 ? 0.03f : i % 4 == 2 ? 0.1f : 1.0f;
+    q += scale * Eigen::Vector3f(n(rng), n(rng), n(rng));
+    if (i % 97 == 0) q.z() = -q.z();         // behind the camera
+    if (i % 89 == 0) q.x() += 2.0f * q.z();  // far outside the image
+    const std::uint32_t hint = i % 3 == 0 ? static_cast<std::uint32_t>(pick(rng)) : KdTree::kNoHint;
+    for (const float max_sq : {0.01f, 1e-4f}) {
+      std::uint32_t ia = 0, ib = 0;
+      float da = -1.0f, db = -1.0f;
+      const bool fa = by_image.nearest(q, max_sq, ia, da, hint);
+      const bool fb = by_tree.nearest(q, max_sq, ib, db);
+      ASSERT_EQ(fa, fb) << "query " << i;
+      if (fa) {
+        EXPECT_FLOAT_EQ(da, db) << "query " << i;
+        EXPECT_FLOAT_EQ((cloud.points_m[ia] - q).squaredNorm(), da);
+      }
+      if (scale <= 0.03f && q.z() > 0.0f) {  // a correspondence search near the surfaces
+        std::uint32_t ic = 0;
+        float dc = 0.0f;
+        certified += OrganizedKnn::shared().nearest(grid, cloud.points_m, q, max_sq,
+                                                    KdTree::kNoHint, ic, dc) >= 0;
+        ++compared;
+      }
+    }
+  }
+  // Near the surfaces the image search must answer almost every query itself.
+  EXPECT_GT(certified, compared * 95 / 100) << certified << " of " << compared;
 }
 
 TEST(DepthToPoints, VoxelGridClearsThePixelGrid) {
