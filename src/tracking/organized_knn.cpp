@@ -8,6 +8,32 @@
 
 namespace vigs::tracking {
 
+namespace {
+
+// The certificate of the header: every point whose pixel lies at least a pixels (along u or
+// v) from the projection of p is at least a z^2 / (f sqrt(x^2 + z^2) + a z) metres from p.
+// In double, so the bound is not rounded up.
+class DistanceBound {
+ public:
+  DistanceBound(const PinholeCamera& cam, const Eigen::Vector3f& p)
+      : z_(p.z()),
+        fx_h_(cam.fx_px * std::sqrt(double{p.x()} * p.x() + z_ * z_)),
+        fy_h_(cam.fy_px * std::sqrt(double{p.y()} * p.y() + z_ * z_)) {}
+
+  /// True when no point a_px pixels away or more can be closer than sqrt(sq_dist) (with a
+  /// 1e-6 relative margin for the float distances).
+  [[nodiscard]] bool excludes(float sq_dist, double a_px) const {
+    const double z2 = z_ * z_;
+    const double r = std::min(a_px * z2 / (fx_h_ + a_px * z_), a_px * z2 / (fy_h_ + a_px * z_));
+    return double{sq_dist} < r * r * (1.0 - 1e-6);
+  }
+
+ private:
+  double z_, fx_h_, fy_h_;
+};
+
+}  // namespace
+
 OrganizedKnn::OrganizedKnn(int max_ring) : max_ring_(std::max(1, max_ring)) {
   for (int c = 0; c <= max_ring_; ++c) {
     const std::size_t first = offsets_.size();
@@ -34,39 +60,19 @@ int OrganizedKnn::knn(const PixelGrid& grid, const std::vector<Eigen::Vector3f>&
   const int cu = static_cast<int>(cell % static_cast<std::uint32_t>(grid.width));
   const int cv = static_cast<int>(cell / static_cast<std::uint32_t>(grid.width));
   const Eigen::Vector3f& p = points_m[i];
-  // Certificate terms, in double: the bound must not be rounded up.
-  const double z = p.z();
-  const double fx_h = grid.camera.fx_px * std::sqrt(double{p.x()} * p.x() + z * z);
-  const double fy_h = grid.camera.fy_px * std::sqrt(double{p.y()} * p.y() + z * z);
-  const double z2 = z * z;
+  const DistanceBound bound(grid.camera, p);
 
   KnnList list;
   list.k = k;
   list.indices = indices;
   list.sq_dists = sq_dists;
-  std::uint32_t o = 0;
   for (int c = 0; c <= max_ring_; ++c) {
-    const bool inside = cu - c >= 0 && cu + c < grid.width && cv - c >= 0 && cv + c < grid.height;
-    const std::uint32_t end = ring_end_[static_cast<std::size_t>(c)];
-    for (; o < end; ++o) {
-      const int u = cu + offsets_[o].du;
-      const int v = cv + offsets_[o].dv;
-      if (!inside && (u < 0 || u >= grid.width || v < 0 || v >= grid.height)) {
-        continue;
-      }
-      const std::int32_t j = grid.point_at[static_cast<std::size_t>(v) * grid.width + u];
-      if (j >= 0) {
-        list.offer(static_cast<std::uint32_t>(j),
-                   (points_m[static_cast<std::size_t>(j)] - p).squaredNorm());
-      }
-    }
-    if (list.count == k) {
-      // Closest any point of ring c + 1 or beyond can be (see the header).
-      const double a = (c + 1) * grid.stride_px - 0.5;
-      const double bound = std::min(a * z2 / (fx_h + a * z), a * z2 / (fy_h + a * z));
-      if (double{list.worst} < bound * bound * (1.0 - 1e-6)) {
-        return k;
-      }
+    for_each_in_ring(grid, cu, cv, c,
+                     [&](std::uint32_t j) { list.offer(j, (points_m[j] - p).squaredNorm()); });
+    // Grid points project exactly on their cells: ring c + 1 is >= (c + 1) * stride pixels
+    // away (0.5 px margin for rounding).
+    if (list.count == k && bound.excludes(list.worst, (c + 1) * grid.stride_px - 0.5)) {
+      return k;
     }
   }
   return -1;
@@ -93,46 +99,35 @@ int OrganizedKnn::nearest(const PixelGrid& grid, const std::vector<Eigen::Vector
   }
   const int cu = static_cast<int>(std::lround(gu));
   const int cv = static_cast<int>(std::lround(gv));
-  const double fx_h = cam.fx_px * std::sqrt(double{q.x()} * q.x() + z * z);
-  const double fy_h = cam.fy_px * std::sqrt(double{q.y()} * q.y() + z * z);
-  const double z2 = z * z;
+  const DistanceBound bound(cam, q);
 
+  // Locals, not the out-parameters, inside the loop: a store through `index` could alias the
+  // grid's int32 cells and force reloads.
   float best = max_sq_dist;
+  std::uint32_t best_index = 0;
   bool found = false;
   if (hint < points_m.size()) {
     const float d2 = (points_m[hint] - q).squaredNorm();
     if (d2 < best) {
       best = d2;
-      index = hint;
+      best_index = hint;
       found = true;
     }
   }
-  std::uint32_t o = 0;
   for (int c = 0; c <= max_ring_; ++c) {
-    const bool inside = cu - c >= 0 && cu + c < grid.width && cv - c >= 0 && cv + c < grid.height;
-    const std::uint32_t end = ring_end_[static_cast<std::size_t>(c)];
-    for (; o < end; ++o) {
-      const int u = cu + offsets_[o].du;
-      const int v = cv + offsets_[o].dv;
-      if (!inside && (u < 0 || u >= grid.width || v < 0 || v >= grid.height)) {
-        continue;
-      }
-      const std::int32_t j = grid.point_at[static_cast<std::size_t>(v) * grid.width + u];
-      if (j < 0) {
-        continue;
-      }
-      const float d2 = (points_m[static_cast<std::size_t>(j)] - q).squaredNorm();
+    for_each_in_ring(grid, cu, cv, c, [&](std::uint32_t j) {
+      const float d2 = (points_m[j] - q).squaredNorm();
       if (d2 < best) {
         best = d2;
-        index = static_cast<std::uint32_t>(j);
+        best_index = j;
         found = true;
       }
-    }
-    // Closest any point of ring c + 1 or beyond can be.
-    const double a = (c + 0.5) * grid.stride_px - 0.01;
-    const double bound = std::min(a * z2 / (fx_h + a * z), a * z2 / (fy_h + a * z));
-    if (double{best} < bound * bound * (1.0 - 1e-6)) {
+    });
+    // q lies within half a cell of (cu, cv): ring c + 1 is >= (c + 0.5) * stride pixels from
+    // its projection (0.01 px margin for rounding).
+    if (bound.excludes(best, (c + 0.5) * grid.stride_px - 0.01)) {
       if (found) {
+        index = best_index;
         sq_dist = best;
       }
       return found ? 1 : 0;

@@ -52,6 +52,26 @@ class OrganizedKnn {
   struct Offset {
     std::int32_t du, dv;
   };
+  /// Calls visit(point index) for every point in ring c (Chebyshev radius in cells) around
+  /// cell (cu, cv), nearest cells first; cells outside the grid are skipped.
+  template <class Visit>
+  void for_each_in_ring(const PixelGrid& grid, int cu, int cv, int c, Visit&& visit) const {
+    const bool inside = cu - c >= 0 && cu + c < grid.width && cv - c >= 0 && cv + c < grid.height;
+    const std::uint32_t end = ring_end_[static_cast<std::size_t>(c)];
+    for (std::uint32_t o = c == 0 ? 0u : ring_end_[static_cast<std::size_t>(c) - 1]; o < end; ++o) {
+      const int u = cu + offsets_[o].du;
+      const int v = cv + offsets_[o].dv;
+      if (!inside && (u < 0 || u >= grid.width || v < 0 || v >= grid.height)) {
+        continue;
+      }
+      const std::int32_t j =
+          grid.point_at[static_cast<std::size_t>(v) * static_cast<std::size_t>(grid.width) +
+                        static_cast<std::size_t>(u)];
+      if (j >= 0) {
+        visit(static_cast<std::uint32_t>(j));
+      }
+    }
+  }
   int max_ring_;
   std::vector<Offset> offsets_;          ///< ring by ring; within a ring by distance
   std::vector<std::uint32_t> ring_end_;  ///< offsets_[ring_end_[c - 1], ring_end_[c]) is ring c
