@@ -1,0 +1,142 @@
+// Openni2Driver: reads an OpenNI2 RGB-D device (a live sensor, or a `.oni` clip played back by
+// real OpenNI2) on its own real-time thread, pairs depth with colour, copies each pair into a
+// FramePool slot and pushes its FrameHandle into an rt ring.
+//
+// Thread: rt thread table entry `rgbd_driver`, created by start(), joined by stop(). Loop:
+// OpenNI::waitForAnyStream(depth, colour) with a timeout (wait_timeout_ms, so stop() returns
+// within about that), readFrame the ready stream, check its size, pair by device timestamp
+// (FramePairer), then acquire a pool slot, copy depth (16-bit mm) and RGB8, stamp (DeviceClock:
+// device time -> CLOCK_MONOTONIC) and push. The thread is a PinnedStackThread rather than
+// rt::RtThread (same ThreadSpec, same stop token): its stack is never unmapped, which keeps
+// OpenNI2 2.2 from crashing (pinned_stack_thread.hpp).
+//
+// Ring policy: push_or_drop: when the ring is full the newest frame is dropped, its slot goes back
+// to the pool at once, and it is counted (dropped_ring_full). An empty pool drops the pair
+// (dropped_pool_empty). The driver never waits for the consumer.
+//
+// Playback: Device::open(path), setSpeed(-1) (lockstep: OpenNI2 delivers every recorded frame,
+// one per read, never skipping), repeat left on (see the .cpp), no seek. After the clip's last
+// frame the driver sets end_of_stream(), pushes an invalid FrameHandle as the end-of-stream
+// marker (retrying every millisecond until the consumer makes room, or stop()) and its thread
+// ends.
+//
+// Real-time: all buffers are the pool's; the loop itself does not allocate, lock or log.
+// OpenNI2's own calls on that path (waitForAnyStream, readFrame, frame reference release) take
+// OpenNI2's internal critical sections and recycle frames from its own frame pool; that is
+// outside this code.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "drivers/openni2/device_clock.hpp"
+#include "drivers/openni2/frame_pairer.hpp"
+#include "drivers/openni2/pinned_stack_thread.hpp"
+#include "drivers/openni2/rgbd_driver_counters.hpp"
+#include "rt/counters.hpp"
+#include "rt/frame_pool.hpp"
+#include "rt/spsc_ring.hpp"
+#include "rt/thread_table.hpp"
+
+namespace vigs::config {
+struct CameraSettings;
+struct RtSettings;
+}  // namespace vigs::config
+
+namespace vigs::drivers {
+
+// Opening or configuring the device failed; the message names the URI (or file) and the step.
+class Openni2Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Openni2DriverSettings {
+  std::string uri;                ///< OpenNI2 device URI or .oni file; empty = first device
+  std::uint32_t width_px = 640;   ///< camera image size both streams must have
+  std::uint32_t height_px = 480;  ///< px
+  double rate_hz = 30.0;          ///< frame rate: live video mode, pairing tolerance (T/2)
+  int wait_timeout_ms = 20;       ///< bound on stop() latency
+  bool register_depth = true;     ///< depth-to-colour registration where the device has it
+  bool realtime_thread = true;    ///< request the thread table's SCHED_FIFO priority
+  bool pin_cpu = true;            ///< pin to the thread table's CPU
+};
+
+/// Driver settings from the robot config (camera.device, camera.width_px, camera.height_px,
+/// camera.rate_hz, rt.realtime_priorities, rt.pin_cpus).
+[[nodiscard]] Openni2DriverSettings openni2_settings(const config::CameraSettings& camera,
+                                                     const config::RtSettings& rt);
+
+class Openni2Driver {
+ public:
+  /// `pool` must hold width_px x height_px frames with 3 colour channels (rgb8), else
+  /// std::invalid_argument. Both references must outlive the driver.
+  Openni2Driver(const Openni2DriverSettings& settings, rt::FramePool& pool,
+                rt::SpscRing<rt::FrameHandle>& out);
+  ~Openni2Driver();
+  Openni2Driver(const Openni2Driver&) = delete;
+  Openni2Driver& operator=(const Openni2Driver&) = delete;
+
+  /// Opens the device and starts both streams and the read thread. Throws Openni2Error naming
+  /// the URI: missing or unreadable file, no device, no depth or colour stream, a stream whose
+  /// size (both sizes named) or pixel format differs from the settings. Nothing is left open
+  /// after a throw.
+  void start();
+  /// Stops and joins the read thread, then closes the streams and the device. Idempotent.
+  void stop();
+  [[nodiscard]] bool running() const noexcept { return thread_.has_value(); }
+
+  /// True once playback has read the clip's last frame (never for a live sensor).
+  [[nodiscard]] bool end_of_stream() const noexcept {
+    return end_of_stream_.load(std::memory_order_acquire);
+  }
+  /// True when the opened device is a file (playback).
+  [[nodiscard]] bool is_file() const noexcept { return is_file_; }
+  /// True when depth-to-colour registration was switched on.
+  [[nodiscard]] bool registered() const noexcept { return registered_; }
+
+  /// Counter snapshot; callable from any thread at any time.
+  [[nodiscard]] RgbdDriverCounters counters() const noexcept;
+  /// What the OS granted the read thread (valid while running).
+  [[nodiscard]] const rt::ThreadApplyStatus* thread_status() const noexcept;
+
+ private:
+  struct Device;  // the OpenNI2 objects (kept out of this header)
+
+  void run(const std::stop_token& stop) noexcept;
+  void read_one(int stream_index) noexcept;
+  void emit_pair() noexcept;
+  void finish_stream(const std::stop_token& stop) noexcept;
+  void close_device() noexcept;
+
+  Openni2DriverSettings settings_;
+  rt::FramePool& pool_;
+  rt::SpscRing<rt::FrameHandle>& out_;
+  std::unique_ptr<Device> device_;
+  FramePairer pairer_;
+  DeviceClock clock_;
+  bool is_file_ = false;
+  bool registered_ = false;
+  std::uint64_t clip_depth_frames_ = 0;  // playback: frames per stream in the clip
+  std::uint64_t clip_colour_frames_ = 0;
+
+  rt::SingleWriterCounter depth_read_;
+  rt::SingleWriterCounter colour_read_;
+  rt::SingleWriterCounter frames_read_;
+  rt::SingleWriterCounter delivered_;
+  rt::SingleWriterCounter dropped_ring_full_;
+  rt::SingleWriterCounter dropped_pool_empty_;
+  rt::SingleWriterCounter unpaired_;
+  rt::SingleWriterCounter size_mismatch_;
+  rt::SingleWriterCounter read_errors_;
+  rt::SingleWriterCounter timeouts_;
+  rt::SingleWriterCounter clock_reanchors_;
+  std::atomic<bool> end_of_stream_{false};
+  std::optional<PinnedStackThread> thread_;
+};
+
+}  // namespace vigs::drivers

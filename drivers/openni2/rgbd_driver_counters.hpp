@@ -1,0 +1,28 @@
+// Counters of the OpenNI2 RGB-D driver thread, as one snapshot (Openni2Driver::counters()).
+//
+// Bookkeeping that always holds once the driver has stopped (and at any quiet moment):
+//   frames_read == delivered + dropped_ring_full + dropped_pool_empty
+// and every depth or colour frame read is exactly one of: part of a pair, unpaired, or
+// size_mismatch (a frame still pending at stop is neither).
+#pragma once
+
+#include <cstdint>
+
+namespace vigs::drivers {
+
+struct RgbdDriverCounters {
+  std::uint64_t depth_read = 0;          // depth frames returned by readFrame
+  std::uint64_t colour_read = 0;         // colour frames returned by readFrame
+  std::uint64_t frames_read = 0;         // depth+colour pairs formed (RGB-D frames)
+  std::uint64_t delivered = 0;           // pairs pushed into the ring
+  std::uint64_t dropped_ring_full = 0;   // pairs dropped: ring full (newest dropped, slot freed)
+  std::uint64_t dropped_pool_empty = 0;  // pairs dropped: no free FramePool slot
+  std::uint64_t unpaired = 0;            // depth or colour frames that found no partner
+  std::uint64_t size_mismatch = 0;       // frames whose size/format differs from the camera's
+  std::uint64_t read_errors = 0;         // waitForAnyStream / readFrame failures
+  std::uint64_t timeouts = 0;            // waits that saw no frame within wait_timeout_ms
+  std::uint64_t clock_reanchors = 0;     // device time went backwards (DeviceClock)
+  bool end_of_stream = false;            // playback: the clip's last frame has been read
+};
+
+}  // namespace vigs::drivers
