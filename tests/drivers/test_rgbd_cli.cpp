@@ -1,0 +1,85 @@
+// `vigs rgbd play FILE.oni` as a real process: one JSON line per frame with the clip's centre
+// pixels and 1/30 s stamp steps, then the driver's counters; a missing file exits 1 naming it.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/oni/oni_clip_writer.hpp"
+
+namespace vigs::drivers {
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return ::testing::TempDir() + "/rgbd_cli_" + std::to_string(::getpid()) + "_" + name;
+}
+
+// Runs a shell command; returns its stdout (stderr folded in) and exit status.
+std::pair<std::string, int> run(const std::string& command) {
+  FILE* p = ::popen((command + " 2>&1").c_str(), "r");
+  if (p == nullptr) return {"popen failed", -1};
+  std::string out;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p) != nullptr) out += buf;
+  const int status = ::pclose(p);
+  return {out, WIFEXITED(status) ? WEXITSTATUS(status) : -1};
+}
+
+TEST(RgbdCli, PlaysAClipFrameByFrameThenPrintsCounters) {
+  constexpr std::uint32_t w = 32, h = 24;
+  constexpr int kFrames = 6;
+  const std::string clip = temp_path("clip.oni");
+  {
+    io::oni::OniClipWriter writer(clip, {w, h, 30});
+    std::vector<std::uint16_t> depth(w * h);
+    std::vector<std::uint8_t> rgb(w * h * 3);
+    for (int f = 0; f < kFrames; ++f) {
+      for (auto& d : depth) d = static_cast<std::uint16_t>(1000 + 10 * f);
+      for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<std::uint8_t>(i % 3 + f);
+      writer.add_frame(depth, rgb);
+    }
+    writer.close();
+  }
+  const auto [out, status] =
+      run(std::string(VIGS_BIN) + " rgbd play " + clip + " --width 32 --height 24 --ring 8");
+  ASSERT_EQ(status, 0) << out;
+  std::istringstream lines(out);
+  std::string line;
+  int frames = 0;
+  const std::regex frame_re(
+      R"(\{"sequence": (\d+), "t_ns": \d+, "dt_ms": ([0-9.]+), "centre_depth_mm": (\d+), "centre_rgb": \[(\d+), (\d+), (\d+)\]\})");
+  std::string last;
+  while (std::getline(lines, line)) {
+    std::smatch m;
+    if (!std::regex_match(line, m, frame_re)) {
+      last = line;
+      continue;
+    }
+    EXPECT_EQ(std::stoi(m[1]), frames);
+    if (frames > 0) {
+      EXPECT_NEAR(std::stod(m[2]), 33.333, 0.002) << line;
+    }
+    EXPECT_EQ(std::stoi(m[3]), 1000 + 10 * frames);
+    EXPECT_EQ(std::stoi(m[4]), frames);  // R G B = 0 1 2 (+ frame)
+    EXPECT_EQ(std::stoi(m[6]), 2 + frames);
+    ++frames;
+  }
+  EXPECT_EQ(frames, kFrames);
+  EXPECT_NE(last.find("\"delivered\": 6"), std::string::npos) << last;
+  EXPECT_NE(last.find("\"dropped_ring_full\": 0"), std::string::npos) << last;
+  EXPECT_NE(last.find("\"end_of_stream\": true"), std::string::npos) << last;
+}
+
+TEST(RgbdCli, MissingFileExitsOneNamingIt) {
+  const std::string clip = temp_path("missing.oni");
+  const auto [out, status] = run(std::string(VIGS_BIN) + " rgbd play " + clip);
+  EXPECT_EQ(status, 1) << out;
+  EXPECT_NE(out.find(clip), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace vigs::drivers
