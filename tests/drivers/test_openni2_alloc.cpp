@@ -1,26 +1,24 @@
 // The OpenNI2 driver's own code does not allocate on its read loop once frames flow: this binary
-// replaces global operator new and counts allocations made by the thread named `rgbd_driver`
-// (the rt thread table's name for the driver thread) after its first two RGB-D frames, while it
-// plays a clip through real OpenNI2, overflows its ring, reaches the end and waits to push the end
-// marker. Allocations whose caller is inside libOpenNI2 are counted apart and reported, not
-// failed: OpenNI2 2.2 allocates on its own (about one operator new per frame it takes back, in
-// frame release). Memory taken with malloc directly is not seen here.
+// replaces global operator new (counting_new.hpp) and counts allocations made by the thread named
+// `rgbd_driver` (the rt thread table's name for the driver thread) after its first two RGB-D
+// frames, while it plays a clip through real OpenNI2, overflows its ring, reaches the end and waits
+// to push the end marker. Allocations whose caller is inside libOpenNI2 are counted apart and
+// reported, not failed: OpenNI2 2.2 allocates on its own (about one operator new per frame it takes
+// back, in frame release). Memory taken with malloc directly is not seen here.
 #include <OpenNI.h>
 #include <dlfcn.h>
 #include <gtest/gtest.h>
-#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
-#include <new>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "counting_new.hpp"
 #include "drivers/openni2/openni2_driver.hpp"
 #include "io/oni/oni_clip_writer.hpp"
 
@@ -37,44 +35,16 @@ bool called_from_openni2(void* caller) noexcept {
          std::strstr(info.dli_fname, "libOpenNI2") != nullptr;
 }
 
-bool on_driver_thread() noexcept {
-  char name[16] = {};
-  ::prctl(PR_GET_NAME, name, 0, 0, 0);  // a syscall: allocates nothing
-  return std::strcmp(name, "rgbd_driver") == 0;
-}
-
-void* counted_alloc(std::size_t n, void* caller) {
-  if (on_driver_thread()) {
-    const vigs::drivers::Openni2Driver* d = g_driver.load();
-    if (d != nullptr && d->counters().frames_read >= 2) {
-      (called_from_openni2(caller) ? g_openni2_allocations : g_loop_allocations).fetch_add(1);
-    } else {
-      g_warmup_allocations.fetch_add(1);
-    }
-  }
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-
 }  // namespace
 
-void* operator new(std::size_t n) {
-  return counted_alloc(n, __builtin_return_address(0));
-}
-void* operator new[](std::size_t n) {
-  return counted_alloc(n, __builtin_return_address(0));
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
+void vigs::test::on_operator_new(std::size_t, void* caller) noexcept {
+  if (!on_thread_named("rgbd_driver")) return;
+  const vigs::drivers::Openni2Driver* d = g_driver.load();
+  if (d != nullptr && d->counters().frames_read >= 2) {
+    (called_from_openni2(caller) ? g_openni2_allocations : g_loop_allocations).fetch_add(1);
+  } else {
+    g_warmup_allocations.fetch_add(1);
+  }
 }
 
 namespace vigs::drivers {

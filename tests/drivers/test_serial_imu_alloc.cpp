@@ -1,17 +1,16 @@
-// The driver's read loop does not allocate: this binary replaces global operator new and counts
-// allocations made by the thread named `imu_driver` (the rt thread table's name for the driver
-// thread) while it reads clean and faulty streams through a pty, overflows its ring, hangs up,
-// tries to reopen the vanished port, and stops.
+// The driver's read loop does not allocate: this binary replaces global operator new
+// (counting_new.hpp) and counts allocations made by the thread named `imu_driver` (the rt thread
+// table's name for the driver thread) while it reads clean and faulty streams through a pty,
+// overflows its ring, hangs up, tries to reopen the vanished port, and stops.
 #include <gtest/gtest.h>
 #include <sys/prctl.h>
 #include <unistd.h>
 
 #include <atomic>
-#include <cstdlib>
 #include <cstring>
-#include <new>
 #include <string>
 
+#include "counting_new.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "pty_feeder.hpp"
 #include "rt/clock.hpp"
@@ -20,37 +19,10 @@ namespace {
 
 std::atomic<long> g_driver_thread_allocations{0};
 
-bool on_driver_thread() noexcept {
-  char name[16] = {};
-  ::prctl(PR_GET_NAME, name, 0, 0, 0);  // a syscall: allocates nothing
-  return std::strcmp(name, "imu_driver") == 0;
-}
-
-void* counted_alloc(std::size_t n) {
-  if (on_driver_thread()) g_driver_thread_allocations.fetch_add(1);
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-
 }  // namespace
 
-void* operator new(std::size_t n) {
-  return counted_alloc(n);
-}
-void* operator new[](std::size_t n) {
-  return counted_alloc(n);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
+void vigs::test::on_operator_new(std::size_t, void*) noexcept {
+  if (on_thread_named("imu_driver")) g_driver_thread_allocations.fetch_add(1);
 }
 
 namespace vigs::drivers {
@@ -113,8 +85,9 @@ TEST(SerialImuDriver, AllocationCounterSeesTheDriverThread) {
   // The check above could pass vacuously if the name test never matched: prove it matches.
   ::prctl(PR_SET_NAME, "imu_driver", 0, 0, 0);
   const long before = g_driver_thread_allocations.load();
-  auto* p = new int(3);
-  delete p;
+  // A direct call: a new-expression paired with delete may be elided by the optimiser.
+  void* p = ::operator new(sizeof(int));
+  ::operator delete(p);
   ::prctl(PR_SET_NAME, "test_main", 0, 0, 0);
   EXPECT_EQ(g_driver_thread_allocations.load(), before + 1);
 }
