@@ -17,24 +17,24 @@ enum class PoseSource : std::uint8_t {
 /// Per-sample fault flags (bit mask), so a subscriber sees why a pose is degraded.
 enum PoseFlags : std::uint32_t {
   kPoseFlagNone = 0,
-  kPoseFlagDegenerate = 1u << 0,     ///< GICP information matrix has weak directions
-  kPoseFlagImuUnavailable = 1u << 1, ///< no IMU prediction for this frame (stream stopped)
-  kPoseFlagFramesSkipped = 1u << 2,  ///< the tracker skipped older frames to reach this one
-  kPoseFlagOutOfOrder = 1u << 3,     ///< an out-of-order frame was discarded before this one
+  kPoseFlagDegenerate = 1u << 0,      ///< GICP information matrix has weak directions
+  kPoseFlagImuUnavailable = 1u << 1,  ///< no IMU prediction for this frame (stream stopped)
+  kPoseFlagFramesSkipped = 1u << 2,   ///< the tracker skipped older frames to reach this one
+  kPoseFlagOutOfOrder = 1u << 3,      ///< an out-of-order frame was discarded before this one
 };
 
 struct PoseSample {
-  std::int64_t t_ns = 0;      ///< the frame's sensor stamp (not the publish time), ns
-  std::uint64_t frame_index = 0;  ///< 0-based index of the frame in its stream
+  std::int64_t t_ns = 0;              ///< the frame's sensor stamp (not the publish time), ns
+  std::uint64_t frame_index = 0;      ///< 0-based index of the frame in its stream
   double p_w_m[3] = {};               ///< camera position in the world (map) frame, m
   double q_w_xyzw[4] = {0, 0, 0, 1};  ///< camera orientation in the world frame, x y z w
   /// 6x6 row-major covariance of the pose, order [x y z rx ry rz] (ROS 2's
   /// PoseWithCovariance convention), m^2 / rad^2; from the tracker's information matrix.
   double covariance[36] = {};
-  double v_w_mps[3] = {};          ///< camera velocity in the world frame (IMU state), m/s
-  double omega_c_radps[3] = {};    ///< camera angular rate in the camera frame, rad/s
+  double v_w_mps[3] = {};        ///< camera velocity in the world frame (IMU state), m/s
+  double omega_c_radps[3] = {};  ///< camera angular rate in the camera frame, rad/s
   PoseSource source = PoseSource::kTracked;
-  bool keyframe = false;           ///< this frame became a keyframe
+  bool keyframe = false;                ///< this frame became a keyframe
   std::uint32_t flags = kPoseFlagNone;  ///< PoseFlags bits
 };
 
