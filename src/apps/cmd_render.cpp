@@ -7,9 +7,9 @@
 
 #include "apps/commands.hpp"
 #include "apps/frame_list.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/image_io.hpp"
+#include "io/json_text.hpp"
 #include "mapping/ply_io.hpp"
 #include "mapping/rasterizer.hpp"
 
@@ -61,11 +61,14 @@ void add_render_command(CLI::App& app, ExitCode& exit_code) {
       if (depth_path.empty()) depth_path = default_depth_path(out_path);
       io::write_png(out_path, color);
       io::write_png_u16(depth_path, depth);
-      std::cout << "{\"map\": " << json_string(map_path) << ", \"gaussians\": " << map.size()
-                << ", \"visible_tile_pairs\": " << ras.tile_pairs()
-                << ", \"color\": " << json_string(out_path)
-                << ", \"depth\": " << json_string(depth_path)
-                << ", \"depth_scale_m\": " << json_number(scale) << "}\n";
+      io::Json j;
+      j["map"] = map_path;
+      j["gaussians"] = map.size();
+      j["visible_tile_pairs"] = ras.tile_pairs();
+      j["color"] = out_path;
+      j["depth"] = depth_path;
+      j["depth_scale_m"] = io::rounded(scale, 10);
+      std::cout << io::json_line(j) << "\n";
     } catch (const std::exception& e) {
       std::cerr << "vigs render: " << e.what() << "\n";
       exit_code.value = 1;

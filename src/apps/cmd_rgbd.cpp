@@ -5,10 +5,10 @@
 #include <string>
 
 #include "apps/commands.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "drivers/openni2/openni2_driver.hpp"
+#include "io/json_text.hpp"
 #include "rt/clock.hpp"
 #include "rt/frame_pool.hpp"
 #include "rt/spsc_ring.hpp"
@@ -25,20 +25,26 @@ struct PlayOptions {
   int frame_timeout_ms = 2000;
 };
 
-std::string counters_json(const drivers::RgbdDriverCounters& c) {
-  std::ostringstream s;
-  s << "{\"depth_read\": " << c.depth_read << ", \"colour_read\": " << c.colour_read
-    << ", \"frames_read\": " << c.frames_read << ", \"delivered\": " << c.delivered
-    << ", \"dropped_ring_full\": " << c.dropped_ring_full
-    << ", \"dropped_pool_empty\": " << c.dropped_pool_empty << ", \"unpaired\": " << c.unpaired
-    << ", \"size_mismatch\": " << c.size_mismatch << ", \"read_errors\": " << c.read_errors
-    << ", \"timeouts\": " << c.timeouts << ", \"clock_reanchors\": " << c.clock_reanchors
-    << ", \"opens\": " << c.opens << ", \"open_failures\": " << c.open_failures
-    << ", \"losses\": " << c.losses << ", \"frame_timeouts\": " << c.frame_timeouts
-    << ", \"error_resets\": " << c.error_resets << ", \"device_gone\": " << c.device_gone
-    << ", \"reopens\": " << c.reopens
-    << ", \"end_of_stream\": " << (c.end_of_stream ? "true" : "false") << "}";
-  return s.str();
+io::Json counters_json(const drivers::RgbdDriverCounters& c) {
+  return {{"depth_read", c.depth_read},
+          {"colour_read", c.colour_read},
+          {"frames_read", c.frames_read},
+          {"delivered", c.delivered},
+          {"dropped_ring_full", c.dropped_ring_full},
+          {"dropped_pool_empty", c.dropped_pool_empty},
+          {"unpaired", c.unpaired},
+          {"size_mismatch", c.size_mismatch},
+          {"read_errors", c.read_errors},
+          {"timeouts", c.timeouts},
+          {"clock_reanchors", c.clock_reanchors},
+          {"opens", c.opens},
+          {"open_failures", c.open_failures},
+          {"losses", c.losses},
+          {"frame_timeouts", c.frame_timeouts},
+          {"error_resets", c.error_resets},
+          {"device_gone", c.device_gone},
+          {"reopens", c.reopens},
+          {"end_of_stream", c.end_of_stream}};
 }
 
 int run_play(const PlayOptions& o) {
@@ -74,21 +80,26 @@ int run_play(const PlayOptions& o) {
     }
     if (!h.valid()) break;  // end-of-stream marker
     const rt::Frame& f = pool.frame(h);
-    std::cout << "{\"sequence\": " << f.sequence << ", \"t_ns\": " << f.t_ns << ", \"dt_ms\": "
-              << json_number(last_t_ns == 0 ? 0.0 : rt::ns_to_ms(f.t_ns - last_t_ns))
-              << ", \"centre_depth_mm\": " << f.depth[centre] << ", \"centre_rgb\": ["
-              << int{f.colour[3 * centre]} << ", " << int{f.colour[3 * centre + 1]} << ", "
-              << int{f.colour[3 * centre + 2]} << "]}\n";
+    io::Json j;
+    j["sequence"] = f.sequence;
+    j["t_ns"] = f.t_ns;
+    j["dt_ms"] = io::rounded(last_t_ns == 0 ? 0.0 : rt::ns_to_ms(f.t_ns - last_t_ns), 10);
+    j["centre_depth_mm"] = f.depth[centre];
+    j["centre_rgb"] = {int{f.colour[3 * centre]}, int{f.colour[3 * centre + 1]},
+                       int{f.colour[3 * centre + 2]}};
+    std::cout << io::json_line(j) << "\n";
     last_t_ns = f.t_ns;
     pool.release(h);
   }
   driver.stop();
   const drivers::RgbdDriverCounters c = driver.counters();
-  std::cout << "{\"file\": " << json_string(o.file) << ", \"width_px\": " << s.width_px
-            << ", \"height_px\": " << s.height_px
-            << ", \"state\": " << json_string(std::string(drivers::to_string(driver.state())))
-            << ", \"fault\": " << json_string(std::string(drivers::to_string(driver.fault())))
-            << ", \"counters\": " << counters_json(c) << "}\n";
+  std::cout << io::json_line({{"file", o.file},
+                              {"width_px", s.width_px},
+                              {"height_px", s.height_px},
+                              {"state", std::string(drivers::to_string(driver.state()))},
+                              {"fault", std::string(drivers::to_string(driver.fault()))},
+                              {"counters", counters_json(c)}})
+            << "\n";
   if (driver.fault() != drivers::DeviceFault::kNone) {
     // The frames before the fault were printed; the stream did not end cleanly.
     std::cerr << "vigs rgbd play: " << driver.fault_message() << "\n";
