@@ -72,10 +72,10 @@ int run_align(const AlignOptions& o) {
 
   const auto t_load = Clock::now();
   const double depth_scale_m = 1.0 / o.depth_scale;
-  const io::ImageU8 src_rgb = io::read_rgb(o.source[0]);
-  const io::ImageF32 src_depth = io::read_depth_m(o.source[1], depth_scale_m);
-  const io::ImageU8 tgt_rgb = io::read_rgb(o.target[0]);
-  const io::ImageF32 tgt_depth = io::read_depth_m(o.target[1], depth_scale_m);
+  const ImageU8 src_rgb = io::read_rgb(o.source[0]);
+  const ImageF32 src_depth = io::read_depth_m(o.source[1], depth_scale_m);
+  const ImageU8 tgt_rgb = io::read_rgb(o.target[0]);
+  const ImageF32 tgt_depth = io::read_depth_m(o.target[1], depth_scale_m);
   const double load_ms = ms_since(t_load);
 
   tracking::ForkJoin team(ts.num_threads);
@@ -84,7 +84,7 @@ int run_align(const AlignOptions& o) {
   tracking::KdTree tgt_tree;
   tracking::PixelGrid tgt_grid;
   const auto t_pre = Clock::now();
-  const auto process = [&pre](const io::ImageF32& depth, const io::ImageU8& rgb,
+  const auto process = [&pre](const ImageF32& depth, const ImageU8& rgb,
                               const std::vector<std::string>& files, tracking::GaussianCloud& cloud,
                               tracking::KdTree* tree, tracking::PixelGrid* grid) {
     try {

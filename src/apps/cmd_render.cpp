@@ -47,8 +47,8 @@ void add_render_command(CLI::App& app, ExitCode& exit_code) {
       mapping::Rasterizer<float> ras(mapping::RasterSettings{}, &pool);
       mapping::RenderResult<float> r;
       ras.forward(map, mapping::RenderCamera::from(k, T_w_c), r);
-      io::ImageU8 color(k.width_px, k.height_px, 3);
-      io::ImageU16 depth(k.width_px, k.height_px, 1);
+      ImageU8 color(k.width_px, k.height_px, 3);
+      ImageU16 depth(k.width_px, k.height_px, 1);
       const double scale = cfg.camera.depth_scale_m;
       for (std::size_t p = 0; p < r.depth.size(); ++p) {
         for (int c = 0; c < 3; ++c)

@@ -9,6 +9,7 @@
 // InitialGuessMode::imu the IMU-propagated pose — flagged `pose_from_gicp = false`, and it
 // does not become a keyframe.
 #include <cstdint>
+#include <stdexcept>
 #include <string_view>
 
 #include "tracking/gicp.hpp"
@@ -57,10 +58,16 @@ class Tracker {
   Tracker(const PinholeCamera& camera, const Setting& setting,
           const geometry::Pose& T_w_c0 = geometry::Pose::Identity());
 
-  /// Tracks one frame. `T_w_c_imu` is the IMU-propagated pose for this frame (nullptr when
-  /// none); it is used in imu mode only. On the first frame it is the starting pose if given.
-  TrackingOutput track(std::int64_t t_ns, const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                       const geometry::Pose* T_w_c_imu = nullptr);
+  /// Tracks one frame; its stamp is frame.t_ns. `T_w_c_imu` is the IMU-propagated pose for
+  /// this frame (nullptr when none); it is used in imu mode only. On the first frame it is the
+  /// starting pose if given.
+  TrackingOutput track(const RgbdView& frame, const geometry::Pose* T_w_c_imu = nullptr);
+  /// Owned images (tools, tests): depth in metres, `rgb` empty or of the same size.
+  TrackingOutput track(std::int64_t t_ns, const ImageF32& depth_m, const ImageU8& rgb,
+                       const geometry::Pose* T_w_c_imu = nullptr) {
+    if (depth_m.empty()) throw std::invalid_argument("depth image is empty");
+    return track(rgbd_view(t_ns, depth_m, rgb), T_w_c_imu);
+  }
 
   /// The most recent keyframe (camera-frame Gaussians and T_w_c), for the mapper.
   [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }

@@ -30,8 +30,8 @@ constexpr double kDeg = 3.14159265358979323846 / 180.0;
 const std::string kIcl = std::string(VIGS_SHARED_DATA_DIR) + "/icl_nuim_livingroom1/";
 
 struct Data {
-  io::ImageF32 depth0, depth2;
-  io::ImageU8 rgb0, rgb2;
+  ImageF32 depth0, depth2;
+  ImageU8 rgb0, rgb2;
   geometry::Pose T_2_0_true;
   geometry::Pose T_2_0_imu;  // truth perturbed by 5 mm and 0.3 deg
   PinholeCamera camera{640, 480, 525.0, 525.0, 319.5, 239.5};
@@ -341,8 +341,8 @@ BENCHMARK(BM_TrackerFrameVsLocalMap)
 // iterations per frame and the last frame's error.
 void BM_TrackerSequenceByGuessMode(benchmark::State& state) {
   const Data& d = data();
-  static const std::vector<std::pair<io::ImageF32, io::ImageU8>> frames = [] {
-    std::vector<std::pair<io::ImageF32, io::ImageU8>> f;
+  static const std::vector<std::pair<ImageF32, ImageU8>> frames = [] {
+    std::vector<std::pair<ImageF32, ImageU8>> f;
     for (int i = 0; i < 5; ++i) {
       char name[16];
       std::snprintf(name, sizeof name, "%05d", i);

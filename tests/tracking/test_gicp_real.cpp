@@ -46,8 +46,8 @@ struct Frame {
 void load_icl(int index, FramePreprocessor& pre, Frame& f) {
   char name[32];
   std::snprintf(name, sizeof name, "%05d", index);
-  const io::ImageF32 depth = io::read_depth_m(kIcl + "depth_" + name + ".png", 0.001);
-  const io::ImageU8 rgb = io::read_rgb(kIcl + "color_" + name + ".jpg");
+  const ImageF32 depth = io::read_depth_m(kIcl + "depth_" + name + ".png", 0.001);
+  const ImageU8 rgb = io::read_rgb(kIcl + "color_" + name + ".jpg");
   f.stats = pre.process(depth, rgb, f.cloud, f.tree);
 }
 
@@ -103,8 +103,8 @@ TEST(GicpReal, IclNuimFrame0ToOthersFromIdentity) {
 
 TEST(GicpReal, UHumans2FrameLoadsAndAlignsToItselfUnderKnownOffset) {
   const PinholeCamera cam{720, 480, 415.69219381653056, 415.69219381653056, 360.0, 240.0};
-  const io::ImageF32 depth = io::read_depth_m(kUh + "depth_img_0.tiff", 1.0);
-  const io::ImageU8 rgb = io::read_rgb(kUh + "left_img_0.png");
+  const ImageF32 depth = io::read_depth_m(kUh + "depth_img_0.tiff", 1.0);
+  const ImageU8 rgb = io::read_rgb(kUh + "left_img_0.png");
   ForkJoin team(2);
   FramePreprocessor::Setting ps;
   ps.depth.far_m = 10.0;
