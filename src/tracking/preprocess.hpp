@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "rt/worker_team.hpp"
 #include "tracking/covariance.hpp"
 #include "tracking/depth_to_points.hpp"
-#include "tracking/fork_join.hpp"
 #include "tracking/kdtree.hpp"
 #include "tracking/organized_knn.hpp"
 #include "tracking/pixel_grid.hpp"
@@ -24,7 +24,7 @@ class FramePreprocessor {
   };
 
   /// `team` is shared with the caller's other parallel work and must outlive this object.
-  FramePreprocessor(const PinholeCamera& camera, const Setting& setting, ForkJoin& team);
+  FramePreprocessor(const PinholeCamera& camera, const Setting& setting, rt::WorkerTeam& team);
 
   /// Depth in metres; `rgb` empty or 3-channel of the same size. A GICP source: no tree.
   DepthToPointsStats process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
@@ -53,7 +53,7 @@ class FramePreprocessor {
 
   DepthToPoints depth_;
   Setting setting_;
-  ForkJoin* team_;
+  rt::WorkerTeam* team_;
   PixelGrid grid_;
   OrganizedKnn organized_;
   KdTree fallback_tree_;
