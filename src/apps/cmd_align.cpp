@@ -78,7 +78,7 @@ int run_align(const AlignOptions& o) {
   const ImageF32 tgt_depth = io::read_depth_m(o.target[1], depth_scale_m);
   const double load_ms = ms_since(t_load);
 
-  tracking::ForkJoin team(ts.num_threads);
+  vigs::rt::WorkerTeam team(ts.num_threads);
   tracking::FramePreprocessor pre(camera, tracking::preprocess_setting(ts), team);
   tracking::GaussianCloud src, tgt;
   tracking::KdTree tgt_tree;

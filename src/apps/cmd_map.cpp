@@ -82,7 +82,7 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
         f.view = {mapping::RenderCamera::from(k, list[i].T_w_c), f.rgb.data(), f.depth_m.data()};
       }
       const std::size_t inserted = map.size();
-      mapping::WorkerPool pool(cfg.mapping.threads);
+      vigs::rt::WorkerTeam pool(cfg.mapping.threads, vigs::rt::ThreadSpec{.name = "mapper_w1"});
       mapping::MapOptimizer opt(cfg.mapping, &pool);
       std::vector<std::size_t> order(frames.size());
       std::iota(order.begin(), order.end(), 0);

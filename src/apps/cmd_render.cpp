@@ -43,7 +43,7 @@ void add_render_command(CLI::App& app, ExitCode& exit_code) {
       const PinholeCamera k = PinholeCamera::from_settings(cfg.camera);
       const Eigen::Isometry3d T_w_c = parse_pose_text(pose_text);
       const mapping::GaussianMap map = mapping::read_gaussian_ply(map_path);
-      mapping::WorkerPool pool(threads);
+      vigs::rt::WorkerTeam pool(threads, vigs::rt::ThreadSpec{.name = "mapper_w1"});
       mapping::Rasterizer<float> ras(mapping::RasterSettings{}, &pool);
       mapping::RenderResult<float> r;
       ras.forward(map, mapping::RenderCamera::from(k, T_w_c), r);

@@ -92,7 +92,7 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
   if (opt.every < 1) throw std::invalid_argument("render quality: every must be >= 1");
   if (opt.threads < 1) throw std::invalid_argument("render quality: threads must be >= 1");
   RenderQuality q;
-  mapping::WorkerPool pool(opt.threads);
+  vigs::rt::WorkerTeam pool(opt.threads, vigs::rt::ThreadSpec{.name = "mapper_w1"});
   mapping::Rasterizer<float> ras(mapping::RasterSettings{}, &pool);
   mapping::RenderResult<float> r;
   ImageU8 rendered;

@@ -17,7 +17,7 @@ config::MappingSettings with_iterations(config::MappingSettings s, int iteration
 LockstepMapper::LockstepMapper(const config::MappingSettings& s, const PinholeCamera& camera,
                                int iterations_per_frame)
     : camera_(camera),
-      pool_(s.threads),
+      pool_(s.threads, rt::ThreadSpec{.name = "mapper_w1"}),
       ring_(8),
       // max_pending 4: a replay adds at most one keyframe per tick, so nothing is skipped.
       mapper_(std::make_unique<mapping::Mapper>(with_iterations(s, iterations_per_frame), ring_,

@@ -12,7 +12,7 @@
 #include "core/types/pinhole_camera.hpp"
 #include "core/types/rgbd_view.hpp"
 #include "mapping/mapper.hpp"
-#include "mapping/worker_pool.hpp"
+#include "rt/worker_team.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
 namespace vigs::pipeline {
@@ -35,7 +35,7 @@ class LockstepMapper {
 
  private:
   PinholeCamera camera_;
-  mapping::WorkerPool pool_;
+  rt::WorkerTeam pool_;
   mapping::KeyframeRing ring_;
   std::unique_ptr<mapping::Mapper> mapper_;
   std::uint64_t next_id_ = 0;

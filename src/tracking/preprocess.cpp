@@ -3,7 +3,7 @@
 namespace vigs::tracking {
 
 FramePreprocessor::FramePreprocessor(const PinholeCamera& camera, const Setting& setting,
-                                     ForkJoin& team)
+                                     rt::WorkerTeam& team)
     : depth_(camera, setting.depth), setting_(setting), team_(&team), fallback_tree_(setting.tree) {
   pending_.resize(static_cast<std::size_t>(team.size()));
 }

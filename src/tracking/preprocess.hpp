@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "rt/worker_team.hpp"
 #include "tracking/covariance.hpp"
 #include "tracking/depth_to_points.hpp"
-#include "tracking/fork_join.hpp"
 #include "tracking/kdtree.hpp"
 #include "tracking/organized_knn.hpp"
 #include "tracking/pixel_grid.hpp"
@@ -25,7 +25,7 @@ class FramePreprocessor {
   };
 
   /// `team` is shared with the caller's other parallel work and must outlive this object.
-  FramePreprocessor(const PinholeCamera& camera, const Setting& setting, ForkJoin& team);
+  FramePreprocessor(const PinholeCamera& camera, const Setting& setting, rt::WorkerTeam& team);
 
   /// One frame (core/types/rgbd_view.hpp). A GICP source: no tree.
   DepthToPointsStats process(const RgbdView& frame, GaussianCloud& out);
@@ -65,7 +65,7 @@ class FramePreprocessor {
 
   DepthToPoints depth_;
   Setting setting_;
-  ForkJoin* team_;
+  rt::WorkerTeam* team_;
   PixelGrid grid_;
   OrganizedKnn organized_;
   KdTree fallback_tree_;

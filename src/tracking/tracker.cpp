@@ -20,9 +20,9 @@ std::string_view to_string(TrackingStatus status) {
 
 Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geometry::Pose& T_w_c0)
     : setting_(setting),
-      team_(setting.preprocess_threads),
+      team_(setting.preprocess_threads, setting.worker),
       pre_(camera, setting.preprocess, team_),
-      gicp_(setting.gicp),
+      gicp_(setting.gicp, setting.gicp.num_threads == team_.size() ? &team_ : nullptr),
       map_(setting.local_map),
       policy_{setting.keyframe},
       T_w_c0_(T_w_c0) {}

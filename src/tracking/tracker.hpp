@@ -53,6 +53,9 @@ class Tracker {
     double max_correction_m = 0.5;
     double max_correction_rad = 30.0 * 3.14159265358979323846 / 180.0;
     int preprocess_threads = 2;
+    /// Member 1 of the tracker's worker team (more members: rt::worker_spec). Normal priority
+    /// by default; the live pipeline passes the thread table's `tracker_w1` as rt: allows.
+    rt::ThreadSpec worker{.name = "tracker_w1"};
   };
 
   Tracker(const PinholeCamera& camera, const Setting& setting,
@@ -73,13 +76,16 @@ class Tracker {
   [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }
   [[nodiscard]] const LocalMap& local_map() const { return map_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
+  /// Preprocessing and GICP run on this one team (GICP shares it when gicp.num_threads equals
+  /// preprocess_threads, as settings_from_config makes them).
+  [[nodiscard]] const rt::WorkerTeam& team() const { return team_; }
 
  private:
   geometry::Pose guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu, bool& fell_back) const;
   void make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
 
   Setting setting_;
-  ForkJoin team_;
+  rt::WorkerTeam team_;
   FramePreprocessor pre_;
   Gicp gicp_;
   LocalMap map_;

@@ -93,7 +93,7 @@ BENCHMARK(BM_DepthToPoints)->Unit(benchmark::kMillisecond);
 // neighbours through the image (knn_kdtree:0, the default) or a kd-tree (1).
 void BM_Preprocess(benchmark::State& state) {
   const Data& d = data();
-  ForkJoin team(static_cast<int>(state.range(0)));
+  rt::WorkerTeam team(static_cast<int>(state.range(0)));
   const KnnSearch knn = state.range(1) == 0 ? KnnSearch::image_grid : KnnSearch::kd_tree;
   FramePreprocessor pre(d.camera, pre_setting(Regularization::normalized_ellipse, knn), team);
   GaussianCloud cloud;
@@ -113,7 +113,7 @@ BENCHMARK(BM_Preprocess)
 // The same plus a kd-tree over the points, as for a GICP target (CloudTarget).
 void BM_PreprocessTarget(benchmark::State& state) {
   const Data& d = data();
-  ForkJoin team(static_cast<int>(state.range(0)));
+  rt::WorkerTeam team(static_cast<int>(state.range(0)));
   FramePreprocessor pre(d.camera, pre_setting(), team);
   GaussianCloud cloud;
   KdTree tree;
@@ -258,7 +258,7 @@ void BM_Align(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(1));
   const Regularization reg =
       state.range(2) == 0 ? Regularization::normalized_ellipse : Regularization::plane;
-  ForkJoin team(threads);
+  rt::WorkerTeam team(threads);
   FramePreprocessor pre(d.camera, pre_setting(reg), team);
   Prepared p;
   pre.process(d.depth0, d.rgb0, p.src);
@@ -286,7 +286,7 @@ BENCHMARK(BM_Align)
 void BM_TrackingStep(benchmark::State& state) {
   const Data& d = data();
   const int threads = static_cast<int>(state.range(1));
-  ForkJoin team(threads);
+  rt::WorkerTeam team(threads);
   FramePreprocessor pre(d.camera, pre_setting(), team);
   Prepared p;
   pre.process(d.depth2, d.rgb2, p.tgt, p.tgt_tree, &p.tgt_grid);

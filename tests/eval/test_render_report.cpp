@@ -133,7 +133,7 @@ class RenderReportTest : public ::testing::Test {
     }
     config::MappingSettings ms;
     ms.threads = 2;
-    mapping::WorkerPool pool(ms.threads);
+    vigs::rt::WorkerTeam pool(ms.threads);
     mapping::MapOptimizer opt(ms, &pool);
     for (int it = 0; it < 100; ++it)
       opt.iterate(map, views[static_cast<std::size_t>(it) % views.size()].view);

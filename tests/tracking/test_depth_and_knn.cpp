@@ -113,7 +113,7 @@ TEST(KdTree, ParallelBuildGivesTheSameTree) {
   std::vector<Eigen::Vector3f> pts(20000);
   for (auto& p : pts) p = Eigen::Vector3f(u(rng), u(rng), u(rng));
   KdTree serial, parallel;
-  ForkJoin team(2);
+  rt::WorkerTeam team(2);
   serial.build(pts);
   parallel.build(pts, &team);
   ASSERT_EQ(serial.leaf_order(), parallel.leaf_order());

@@ -55,7 +55,7 @@ TEST(GicpReal, IclNuimFrame0To2FromIdentityWithin7mmAnd03deg) {
   const auto poses = read_icl_trajectory(kIcl + "trajectory.log");
   ASSERT_GE(poses.size(), 3u);
   const geometry::Pose T_2_0_true = poses[2].inverse() * poses[0];
-  ForkJoin team(2);
+  rt::WorkerTeam team(2);
   FramePreprocessor::Setting ps;  // pixel stride 4, k = 10, normalised ellipse
   FramePreprocessor pre(icl_camera(), ps, team);
   Frame f0, f2;
@@ -80,7 +80,7 @@ TEST(GicpReal, IclNuimFrame0To2FromIdentityWithin7mmAnd03deg) {
 TEST(GicpReal, IclNuimFrame0ToOthersFromIdentity) {
   const auto poses = read_icl_trajectory(kIcl + "trajectory.log");
   ASSERT_GE(poses.size(), 5u);
-  ForkJoin team(2);
+  rt::WorkerTeam team(2);
   FramePreprocessor pre(icl_camera(), FramePreprocessor::Setting{}, team);
   Frame f0;
   load_icl(0, pre, f0);
@@ -105,7 +105,7 @@ TEST(GicpReal, UHumans2FrameLoadsAndAlignsToItselfUnderKnownOffset) {
   const PinholeCamera cam{720, 480, 415.69219381653056, 415.69219381653056, 360.0, 240.0};
   const ImageF32 depth = io::read_depth_m(kUh + "depth_img_0.tiff", 1.0);
   const ImageU8 rgb = io::read_rgb(kUh + "left_img_0.png");
-  ForkJoin team(2);
+  rt::WorkerTeam team(2);
   FramePreprocessor::Setting ps;
   ps.depth.far_m = 10.0;
   FramePreprocessor pre(cam, ps, team);

@@ -150,7 +150,7 @@ TEST(FramePreprocessor, ImageGridCovariancesEqualKdTreeCovariances) {
   const PinholeCamera cam{w, h, 120.0, 120.0, 79.5, 59.5};
   const ImageF32 depth = hostile_depth(w, h);
   for (const int threads : {1, 2}) {
-    ForkJoin team(threads);
+    rt::WorkerTeam team(threads);
     FramePreprocessor::Setting s;
     s.depth.pixel_stride = 1;
     s.covariance.knn_search = KnnSearch::kd_tree;
@@ -176,7 +176,7 @@ TEST(FramePreprocessor, ImageGridResultIsTheSameForOneAndTwoThreads) {
   const ImageF32 depth = io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
   const PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5};
   GaussianCloud one, two;
-  ForkJoin t1(1), t2(2);
+  rt::WorkerTeam t1(1), t2(2);
   FramePreprocessor::Setting s;
   FramePreprocessor(cam, s, t1).process(depth, ImageU8{}, one);
   FramePreprocessor(cam, s, t2).process(depth, ImageU8{}, two);
@@ -191,7 +191,7 @@ TEST(FramePreprocessor, ImageGridResultIsTheSameForOneAndTwoThreads) {
 TEST(OrganizedKnn, NearestEqualsTheKdTreesForAnyQuery) {
   const ImageF32 depth = io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
   const PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5};
-  ForkJoin team(1);
+  rt::WorkerTeam team(1);
   FramePreprocessor::Setting s;
   FramePreprocessor pre(cam, s, team);
   GaussianCloud cloud;
