@@ -25,12 +25,14 @@ struct EchoOptions {
   std::string topic;
   std::string config_file;
   int domain = kNoDomainOverride;
-  int count = 0;          // 0: until interrupted
-  double timeout_s = 0;   // 0: none
+  int count = 0;         // 0: until interrupted
+  double timeout_s = 0;  // 0: none
 };
 
 std::atomic<bool> g_interrupted{false};
-extern "C" void on_signal(int) { g_interrupted.store(true); }
+extern "C" void on_signal(int) {
+  g_interrupted.store(true);
+}
 
 class Printer {
  public:
@@ -72,7 +74,8 @@ bool subscribe_typed(dds::Subscriber& sub, Printer& p, const std::string& topic,
   using namespace geometry_msgs::msg::dds_;
   const std::string ros = dds::ros_type_name(type);
   if (type == "geometry_msgs::msg::dds_::PoseWithCovarianceStamped_") {
-    sub.subscribe<PoseWithCovarianceStamped_>(topic, p.callback<PoseWithCovarianceStamped_>(topic, ros));
+    sub.subscribe<PoseWithCovarianceStamped_>(topic,
+                                              p.callback<PoseWithCovarianceStamped_>(topic, ros));
   } else if (type == "geometry_msgs::msg::dds_::PoseStamped_") {
     sub.subscribe<PoseStamped_>(topic, p.callback<PoseStamped_>(topic, ros));
   } else if (type == "nav_msgs::msg::dds_::Odometry_") {
@@ -138,8 +141,7 @@ int run_echo(const EchoOptions& o) {
     }
   }
   if (!printer.wait(o.timeout_s)) {
-    std::cerr << "vigs echo: fewer than " << o.count << " samples within " << o.timeout_s
-              << " s\n";
+    std::cerr << "vigs echo: fewer than " << o.count << " samples within " << o.timeout_s << " s\n";
     return 1;
   }
   return 0;
@@ -151,11 +153,13 @@ void add_echo_command(CLI::App& app, ExitCode& exit_code) {
   auto o = std::make_shared<EchoOptions>();
   CLI::App* cmd = app.add_subcommand(
       "echo", "print DDS samples of VIGS topics as JSON lines (like ros2 topic echo)");
-  cmd->add_option("topic", o->topic, "topic, e.g. rt/vigs/pose or /vigs/pose (default: all VIGS topics)");
+  cmd->add_option("topic", o->topic,
+                  "topic, e.g. rt/vigs/pose or /vigs/pose (default: all VIGS topics)");
   cmd->add_option("--domain", o->domain, "DDS domain id (default: the config's dds.domain_id)");
   cmd->add_option("--count", o->count, "exit after N samples (0: until Ctrl-C)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--config", o->config_file, "robot YAML whose dds: section to use (default: built-in)")
+  cmd->add_option("--config", o->config_file,
+                  "robot YAML whose dds: section to use (default: built-in)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--timeout", o->timeout_s, "give up after S seconds, exit 1 (0: never)")
       ->check(CLI::NonNegativeNumber);

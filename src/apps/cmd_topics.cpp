@@ -53,7 +53,8 @@ void add_topics_command(CLI::App& app, ExitCode& exit_code) {
   auto o = std::make_shared<TopicsOptions>();
   CLI::App* cmd = app.add_subcommand("topics", "list the DDS topics and types discovered");
   cmd->add_option("--domain", o->domain, "DDS domain id (default: the config's dds.domain_id)");
-  cmd->add_option("--config", o->config_file, "robot YAML whose dds: section to use (default: built-in)")
+  cmd->add_option("--config", o->config_file,
+                  "robot YAML whose dds: section to use (default: built-in)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--wait", o->wait_s, "seconds of discovery before listing")
       ->check(CLI::NonNegativeNumber);

@@ -7,7 +7,9 @@ namespace {
 
 using nlohmann::json;
 
-json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json num(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
 
 json covariance(const std::array<double, 36>& c) {
   json a = json::array();
@@ -50,12 +52,13 @@ json to_json(const geometry_msgs::msg::dds_::PoseStamped_& m) {
 
 json to_json(const nav_msgs::msg::dds_::Odometry_& m) {
   const auto& tw = m.twist();
-  return {{"header", header(m.header())},
-          {"child_frame_id", m.child_frame_id()},
-          {"pose", pose_cov(m.pose())},
-          {"twist",
-           {{"twist", {{"linear", vec3(tw.twist().linear())}, {"angular", vec3(tw.twist().angular())}}},
-            {"covariance", covariance(tw.covariance())}}}};
+  return {
+      {"header", header(m.header())},
+      {"child_frame_id", m.child_frame_id()},
+      {"pose", pose_cov(m.pose())},
+      {"twist",
+       {{"twist", {{"linear", vec3(tw.twist().linear())}, {"angular", vec3(tw.twist().angular())}}},
+        {"covariance", covariance(tw.covariance())}}}};
 }
 
 json to_json(const tf2_msgs::msg::dds_::TFMessage_& m) {

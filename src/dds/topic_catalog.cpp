@@ -19,7 +19,8 @@ struct TopicCatalog::Impl : fdds::DomainParticipantListener {
     const bool remove = info.status == rtps::WriterDiscoveryInfo::REMOVED_WRITER;
     count(info.info.topicName().to_string(), info.info.typeName().to_string(), add, remove, true);
   }
-  void on_subscriber_discovery(fdds::DomainParticipant*, rtps::ReaderDiscoveryInfo&& info) override {
+  void on_subscriber_discovery(fdds::DomainParticipant*,
+                               rtps::ReaderDiscoveryInfo&& info) override {
     const bool add = info.status == rtps::ReaderDiscoveryInfo::DISCOVERED_READER;
     const bool remove = info.status == rtps::ReaderDiscoveryInfo::REMOVED_READER;
     count(info.info.topicName().to_string(), info.info.typeName().to_string(), add, remove, false);

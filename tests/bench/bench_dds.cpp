@@ -62,7 +62,8 @@ int child_dds(int domain, bool shm) {
         cfg.topics.pose, [&](const auto& msg) {
           const std::int64_t now = rt::monotonic_ns();
           std::lock_guard l(m);
-          lat.push_back(now - dds::to_ns(msg.header().stamp().sec(), msg.header().stamp().nanosec()));
+          lat.push_back(now -
+                        dds::to_ns(msg.header().stamp().sec(), msg.header().stamp().nanosec()));
         });
     sub.subscribe<nav_msgs::msg::dds_::Odometry_>(cfg.topics.odom, [](const auto&) {});
     sub.subscribe<tf2_msgs::msg::dds_::TFMessage_>(cfg.topics.tf, [](const auto&) {});
@@ -117,7 +118,8 @@ void report(benchmark::State& state, std::vector<std::int64_t> v, const char* pr
   std::sort(v.begin(), v.end());
   auto pct = [&](double p) {
     if (v.empty()) return 0.0;
-    return static_cast<double>(v[std::min(v.size() - 1, static_cast<std::size_t>(p * v.size()))]) / 1e3;
+    return static_cast<double>(v[std::min(v.size() - 1, static_cast<std::size_t>(p * v.size()))]) /
+           1e3;
   };
   const std::string p(prefix);
   state.counters[p + "p50_us"] = pct(0.50);
@@ -150,7 +152,8 @@ void BM_DdsPublishToReceive(benchmark::State& state) {
       const auto t0 = std::chrono::steady_clock::now();
       (void)ring.try_push(s);
       pub.run_cycle(s.t_ns);
-      state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      state.SetIterationTime(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       next += kPeriod;
       std::this_thread::sleep_until(next);
     }
@@ -159,8 +162,13 @@ void BM_DdsPublishToReceive(benchmark::State& state) {
   }
   report(state, lat, "");
 }
-BENCHMARK(BM_DdsPublishToReceive)->ArgName("shm")->Arg(1)->Arg(0)->Iterations(kSamples)
-    ->UseManualTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DdsPublishToReceive)
+    ->ArgName("shm")
+    ->Arg(1)
+    ->Arg(0)
+    ->Iterations(kSamples)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
 
 void BM_PlainUdpRoundTrip(benchmark::State& state) {
   const int port = 47000 + static_cast<int>(getpid() % 1000);
@@ -193,7 +201,10 @@ void BM_PlainUdpRoundTrip(benchmark::State& state) {
   report(state, parse(child.output()), "");
   report(state, rtt, "rtt_");
 }
-BENCHMARK(BM_PlainUdpRoundTrip)->Iterations(kSamples)->UseManualTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PlainUdpRoundTrip)
+    ->Iterations(kSamples)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -94,7 +94,8 @@ void read_publications(dds_entity_t builtin, TopicCheck* checks, int n) {
       if (!infos[k].valid_data) continue;
       const auto* ep = static_cast<const dds_builtintopic_endpoint_t*>(samples[k]);
       for (int t = 0; t < n; ++t) {
-        if (std::strcmp(ep->topic_name, checks[t].topic) == 0) checks[t].writer_type = ep->type_name;
+        if (std::strcmp(ep->topic_name, checks[t].topic) == 0)
+          checks[t].writer_type = ep->type_name;
       }
     }
     dds_return_loan(builtin, samples, got);
@@ -108,9 +109,12 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
     const int v = std::atoi(argv[i + 1]);
-    if (k == "--domain") domain = v;
-    else if (k == "--count") count = v;
-    else if (k == "--timeout-s") timeout_s = v;
+    if (k == "--domain")
+      domain = v;
+    else if (k == "--count")
+      count = v;
+    else if (k == "--timeout-s")
+      timeout_s = v;
     else {
       std::fprintf(stderr, "cyclone_pose_reader: unknown option %s\n", k.c_str());
       return 64;
@@ -118,8 +122,8 @@ int main(int argc, char** argv) {
   }
   if (std::getenv("CYCLONEDDS_URI") == nullptr) setenv("CYCLONEDDS_URI", kLoopbackUri, 1);
 
-  const dds_entity_t participant = dds_create_participant(static_cast<dds_domainid_t>(domain),
-                                                          nullptr, nullptr);
+  const dds_entity_t participant =
+      dds_create_participant(static_cast<dds_domainid_t>(domain), nullptr, nullptr);
   if (participant < 0) {
     std::fprintf(stderr, "cyclone: create_participant: %s\n", dds_strretcode(-participant));
     return 1;
@@ -139,8 +143,8 @@ int main(int argc, char** argv) {
   dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
   dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
   for (int t = 0; t < 3; ++t) {
-    const dds_entity_t topic = dds_create_topic(participant, descs[t], checks[t].topic, nullptr,
-                                                nullptr);
+    const dds_entity_t topic =
+        dds_create_topic(participant, descs[t], checks[t].topic, nullptr, nullptr);
     if (topic < 0) {
       std::fprintf(stderr, "cyclone: create_topic %s: %s\n", checks[t].topic,
                    dds_strretcode(-topic));

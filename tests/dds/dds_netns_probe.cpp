@@ -10,10 +10,10 @@
 //   probe must then see packets leave). Needs root (CAP_SYS_ADMIN, CAP_NET_ADMIN).
 // One JSON line on stdout. Exit 0 when the measurement ran, 1 when the namespace could not be
 // made.
-#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastrtps/utils/IPLocator.h>
 #include <sched.h>
 #include <sys/mount.h>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -61,7 +61,8 @@ long long tx_packets(const char* dev) {
 
 std::string describe(const rtps::Locator_t& l) {
   if (l.kind == LOCATOR_KIND_SHM) return "SHM:" + std::to_string(l.port);
-  return std::string(l.kind == LOCATOR_KIND_UDPv4 ? "UDPv4:" : "kind" + std::to_string(l.kind) + ":") +
+  return std::string(l.kind == LOCATOR_KIND_UDPv4 ? "UDPv4:"
+                                                  : "kind" + std::to_string(l.kind) + ":") +
          rtps::IPLocator::toIPv4string(l) + ":" + std::to_string(l.port);
 }
 
@@ -83,7 +84,8 @@ struct Observer : fdds::DomainParticipantListener {
       if (!on_loopback(l)) off_loopback.insert(describe(l));
     }
   }
-  void on_participant_discovery(fdds::DomainParticipant*, rtps::ParticipantDiscoveryInfo&& i) override {
+  void on_participant_discovery(fdds::DomainParticipant*,
+                                rtps::ParticipantDiscoveryInfo&& i) override {
     {
       std::lock_guard g(m);
       participants.insert(i.info.m_participantName.to_string());
@@ -133,11 +135,16 @@ int main(int argc, char** argv) {
   int domain = 164;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
-    if (k == "--mode") mode = argv[i + 1];
-    else if (k == "--source") source = argv[i + 1];
-    else if (k == "--sink") sink = argv[i + 1];
-    else if (k == "--domain") domain = std::atoi(argv[i + 1]);
-    else if (k == "--workdir") workdir = argv[i + 1];
+    if (k == "--mode")
+      mode = argv[i + 1];
+    else if (k == "--source")
+      source = argv[i + 1];
+    else if (k == "--sink")
+      sink = argv[i + 1];
+    else if (k == "--domain")
+      domain = std::atoi(argv[i + 1]);
+    else if (k == "--workdir")
+      workdir = argv[i + 1];
   }
   std::string error;
   if (!make_namespace(error)) {
@@ -155,16 +162,18 @@ int main(int argc, char** argv) {
     int sink_rc = -100, source_rc = -100;
     std::string sink_out, source_out;
     if (mode == "default") {
-      vigs::dds::test::ChildProcess sink_p({sink, "--domain", dom, "--count", "40", "--timeout-s", "60"});
-      vigs::dds::test::ChildProcess source_p({source, "--domain", dom, "--count", "40", "--rate-hz", "50", "--wait-all", "0"});
+      vigs::dds::test::ChildProcess sink_p(
+          {sink, "--domain", dom, "--count", "40", "--timeout-s", "60"});
+      vigs::dds::test::ChildProcess source_p(
+          {source, "--domain", dom, "--count", "40", "--rate-hz", "50", "--wait-all", "0"});
       source_rc = source_p.wait(90s);
       sink_rc = sink_p.wait(60s);
       sink_out = sink_p.output();
       source_out = source_p.output();
     } else {
       const std::string cfg = workdir + "/netns_interface.yaml";
-      std::ofstream(cfg) << "dds:\n  interface_ip: 10.254.0.1\n  qos_profiles: "
-                         << VIGS_SOURCE_DIR << "/firmware_config/dds/qos_profiles.xml\n";
+      std::ofstream(cfg) << "dds:\n  interface_ip: 10.254.0.1\n  qos_profiles: " << VIGS_SOURCE_DIR
+                         << "/firmware_config/dds/qos_profiles.xml\n";
       vigs::dds::test::ChildProcess source_p({source, "--domain", dom, "--count", "20", "--rate-hz",
                                               "50", "--subscribers", "0", "--config", cfg});
       source_rc = source_p.wait(90s);

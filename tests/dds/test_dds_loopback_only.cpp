@@ -19,8 +19,8 @@ using namespace std::chrono_literals;
 
 nlohmann::json probe(const char* mode, int domain) {
   test::ChildProcess p({VIGS_DDS_NETNS_PROBE, "--mode", mode, "--domain", std::to_string(domain),
-                        "--source", VIGS_DDS_POSE_SOURCE, "--sink", VIGS_DDS_POSE_SINK,
-                        "--workdir", ::testing::TempDir()});
+                        "--source", VIGS_DDS_POSE_SOURCE, "--sink", VIGS_DDS_POSE_SINK, "--workdir",
+                        ::testing::TempDir()});
   const int rc = p.wait(180s);
   EXPECT_EQ(rc, 0) << p.output();
   return nlohmann::json::parse(p.output());

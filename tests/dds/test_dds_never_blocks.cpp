@@ -54,8 +54,8 @@ TEST(DdsNeverBlocks, StoppedReliableSubscriber) {
   const DdsConfig cfg = default_dds_config(157);
   PosePublisher pub(cfg, ring);
   pub.start();
-  test::ChildProcess sink({VIGS_DDS_POSE_SINK, "--domain", "157", "--count", "1000000",
-                           "--timeout-s", "120"});
+  test::ChildProcess sink(
+      {VIGS_DDS_POSE_SINK, "--domain", "157", "--count", "1000000", "--timeout-s", "120"});
   for (int i = 0; i < 3000 && pub.pose_subscribers() < 1; ++i) std::this_thread::sleep_for(10ms);
   ASSERT_EQ(pub.pose_subscribers(), 1) << "the sink never matched";
   std::this_thread::sleep_for(300ms);

@@ -53,22 +53,24 @@ TEST(VigsEcho, PrintsEveryPoseAsJsonInOrder) {
     EXPECT_EQ(l["topic"], "rt/vigs/pose");
     EXPECT_EQ(l["type"], "geometry_msgs/msg/PoseWithCovarianceStamped");
     const json& h = l["msg"]["header"];
-    EXPECT_EQ(to_ns(h["stamp"]["sec"].get<std::int32_t>(), h["stamp"]["nanosec"].get<std::uint32_t>()),
-              s.t_ns);
+    EXPECT_EQ(
+        to_ns(h["stamp"]["sec"].get<std::int32_t>(), h["stamp"]["nanosec"].get<std::uint32_t>()),
+        s.t_ns);
     EXPECT_EQ(h["frame_id"], "map");
     const json& cov = l["msg"]["pose"]["covariance"];
     ASSERT_EQ(cov.size(), 36u);
-    for (int k = 0; k < 36; ++k) EXPECT_EQ(cov[static_cast<std::size_t>(k)].get<double>(), s.covariance[k]);
+    for (int k = 0; k < 36; ++k)
+      EXPECT_EQ(cov[static_cast<std::size_t>(k)].get<double>(), s.covariance[k]);
     EXPECT_EQ(l["msg"]["pose"]["pose"]["position"]["y"].get<double>(), s.p_w_m[1]);
   }
 }
 
 TEST(VigsEcho, AllTopicsWithoutATopicArgument) {
   test::ShmJanitor janitor;
-  test::ChildProcess echo({VIGS_BINARY, "echo", "--domain", "161", "--count", "30", "--timeout",
-                           "60"});
-  test::ChildProcess source({VIGS_DDS_POSE_SOURCE, "--domain", "161", "--count", "10",
-                             "--rate-hz", "50", "--wait-s", "30"});
+  test::ChildProcess echo(
+      {VIGS_BINARY, "echo", "--domain", "161", "--count", "30", "--timeout", "60"});
+  test::ChildProcess source({VIGS_DDS_POSE_SOURCE, "--domain", "161", "--count", "10", "--rate-hz",
+                             "50", "--wait-s", "30"});
   ASSERT_EQ(echo.wait(90s), 0) << echo.output();
   source.wait(60s);
   std::map<std::string, int> per_topic;
@@ -82,8 +84,8 @@ TEST(VigsEcho, AllTopicsWithoutATopicArgument) {
 
 TEST(VigsTopics, ListsTheVigsTopicsWithRos2Types) {
   test::ShmJanitor janitor;
-  test::ChildProcess source({VIGS_DDS_POSE_SOURCE, "--domain", "162", "--count", "1",
-                             "--wait-s", "30"});  // waits for a subscriber that never comes
+  test::ChildProcess source({VIGS_DDS_POSE_SOURCE, "--domain", "162", "--count", "1", "--wait-s",
+                             "30"});  // waits for a subscriber that never comes
   test::ChildProcess topics({VIGS_BINARY, "topics", "--domain", "162", "--wait", "3", "--json"});
   ASSERT_EQ(topics.wait(60s), 0) << topics.output();
   std::map<std::string, std::string> types;
@@ -98,13 +100,11 @@ TEST(VigsTopics, ListsTheVigsTopicsWithRos2Types) {
 }
 
 TEST(VigsEcho, BadInputIsAClearError) {
-  test::ChildProcess bad_domain({VIGS_BINARY, "echo", "--domain", "300", "--count", "1"}, {},
-                                true);
+  test::ChildProcess bad_domain({VIGS_BINARY, "echo", "--domain", "300", "--count", "1"}, {}, true);
   EXPECT_EQ(bad_domain.wait(30s), 1);
   EXPECT_NE(bad_domain.output().find("dds.domain_id"), std::string::npos) << bad_domain.output();
-  test::ChildProcess no_writer({VIGS_BINARY, "echo", "rt/not/there", "--domain", "163",
-                                "--timeout", "1"},
-                               {}, true);
+  test::ChildProcess no_writer(
+      {VIGS_BINARY, "echo", "rt/not/there", "--domain", "163", "--timeout", "1"}, {}, true);
   EXPECT_EQ(no_writer.wait(30s), 1);
   EXPECT_NE(no_writer.output().find("no writer of topic rt/not/there"), std::string::npos)
       << no_writer.output();
