@@ -111,8 +111,8 @@ DdsConfig resolve_dds_config(const config::DdsSettings& s, const std::string& co
   DdsConfig c;
   c.enabled = s.enabled;
   if (s.domain_id < 0 || s.domain_id > kMaxDomainId) {
-    throw DdsConfigError("dds.domain_id: " + std::to_string(s.domain_id) +
-                         " is out of range [0, " + std::to_string(kMaxDomainId) + "]");
+    throw DdsConfigError("dds.domain_id: " + std::to_string(s.domain_id) + " is out of range [0, " +
+                         std::to_string(kMaxDomainId) + "]");
   }
   c.domain_id = s.domain_id;
 
@@ -162,17 +162,17 @@ DdsConfig resolve_dds_config(const config::DdsSettings& s, const std::string& co
     c.qos_source = kBuiltinQosName;
     c.qos_xml = builtin_qos_xml();
   } else {
-    const std::filesystem::path base =
-        config_path.empty() ? std::filesystem::current_path()
-                            : std::filesystem::path(config_path).parent_path();
+    const std::filesystem::path base = config_path.empty()
+                                           ? std::filesystem::current_path()
+                                           : std::filesystem::path(config_path).parent_path();
     c.qos_source = (qos.is_absolute() ? qos : (base / qos).lexically_normal()).string();
     c.qos_xml = read_file(c.qos_source);
   }
   const XmlProfiles profiles = parse_profiles(c.qos_xml, c.qos_source);
   require_profile(profiles.writers, s.pose_qos_profile, "data_writer", "pose_qos_profile",
                   c.qos_source);
-  require_profile(profiles.writers, s.keyframe_qos_profile, "data_writer",
-                  "keyframe_qos_profile", c.qos_source);
+  require_profile(profiles.writers, s.keyframe_qos_profile, "data_writer", "keyframe_qos_profile",
+                  c.qos_source);
   require_profile(profiles.writers, s.status_qos_profile, "data_writer", "status_qos_profile",
                   c.qos_source);
   require_profile(profiles.readers, s.reader_qos_profile, "data_reader", "reader_qos_profile",
@@ -185,9 +185,9 @@ DdsConfig resolve_dds_config(const config::DdsSettings& s, const std::string& co
 }
 
 DdsConfig default_dds_config(int domain_id) {
-  config::DdsSettings s =
-      config::load_config_text(config::default_config_text(), std::string(config::kDefaultConfigName))
-          .dds;
+  config::DdsSettings s = config::load_config_text(config::default_config_text(),
+                                                   std::string(config::kDefaultConfigName))
+                              .dds;
   s.domain_id = domain_id;
   return resolve_dds_config(s, "");
 }

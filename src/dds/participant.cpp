@@ -1,16 +1,16 @@
 #include "dds/participant.hpp"
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-#include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/log/Log.hpp>
 
+#include <tinyxml2.h>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
-#include <tinyxml2.h>
 
 namespace vigs::dds {
 

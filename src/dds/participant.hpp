@@ -33,10 +33,10 @@ class Participant {
  public:
   /// Throws DdsConfigError when the QoS cannot be loaded, std::runtime_error when Fast DDS
   /// refuses the participant.
-  Participant(const DdsConfig& config, const std::string& name,
-              eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr,
-              const eprosima::fastdds::dds::StatusMask& mask =
-                  eprosima::fastdds::dds::StatusMask::none());
+  Participant(
+      const DdsConfig& config, const std::string& name,
+      eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr,
+      const eprosima::fastdds::dds::StatusMask& mask = eprosima::fastdds::dds::StatusMask::none());
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;

@@ -33,8 +33,8 @@ struct PosePublisher::Entities {
     tf = make_writer(c, c.topics.tf, tf_type, c.pose_qos_profile, "pose_qos_profile");
     keyframe = make_writer(c, c.topics.keyframe, keyframe_type, c.keyframe_qos_profile,
                            "keyframe_qos_profile");
-    status = make_writer(c, c.topics.status, status_type, c.status_qos_profile,
-                         "status_qos_profile");
+    status =
+        make_writer(c, c.topics.status, status_type, c.status_qos_profile, "status_qos_profile");
   }
 
   fdds::DataWriter* make_writer(const DdsConfig& c, const std::string& topic_name,
@@ -82,13 +82,13 @@ struct PosePublisher::Entities {
 
 PosePublisher::PosePublisher(const DdsConfig& config, PoseRing& poses, StatusMailbox* status,
                              std::string robot)
-    : PosePublisher(config, [&poses](PoseSample& s) { return poses.try_pop(s); }, status,
-                    std::move(robot)) {}
+    : PosePublisher(
+          config, [&poses](PoseSample& s) { return poses.try_pop(s); }, status, std::move(robot)) {}
 
 PosePublisher::PosePublisher(const DdsConfig& config, PoseOverwriteRing& poses,
                              StatusMailbox* status, std::string robot)
-    : PosePublisher(config, [&poses](PoseSample& s) { return poses.try_pop(s); }, status,
-                    std::move(robot)) {}
+    : PosePublisher(
+          config, [&poses](PoseSample& s) { return poses.try_pop(s); }, status, std::move(robot)) {}
 
 PosePublisher::PosePublisher(const DdsConfig& config, std::function<bool(PoseSample&)> pop,
                              StatusMailbox* status, std::string robot)
@@ -96,7 +96,9 @@ PosePublisher::PosePublisher(const DdsConfig& config, std::function<bool(PoseSam
   if (config.enabled) entities_ = std::make_unique<Entities>(config);
 }
 
-PosePublisher::~PosePublisher() { stop(); }
+PosePublisher::~PosePublisher() {
+  stop();
+}
 
 void PosePublisher::start() {
   if (task_) throw std::logic_error("PosePublisher::start called twice");
@@ -145,8 +147,7 @@ void PosePublisher::publish(const PoseSample& s) {
     rejected_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  const bool ok = e.pose->write(&e.pose_msg) & e.odom->write(&e.odom_msg) &
-                  e.tf->write(&e.tf_msg);
+  const bool ok = e.pose->write(&e.pose_msg) & e.odom->write(&e.odom_msg) & e.tf->write(&e.tf_msg);
   if (!ok) write_errors_.fetch_add(1, std::memory_order_relaxed);
   poses_published_.fetch_add(1, std::memory_order_relaxed);
   if (s.keyframe) {
@@ -199,8 +200,8 @@ bool PosePublisher::wait_for_acknowledgments(std::chrono::milliseconds timeout) 
   if (entities_ == nullptr) return false;
   const eprosima::fastrtps::Duration_t max_wait(static_cast<double>(timeout.count()) / 1e3);
   bool ok = true;
-  for (fdds::DataWriter* w : {entities_->pose, entities_->odom, entities_->tf,
-                              entities_->keyframe, entities_->status}) {
+  for (fdds::DataWriter* w :
+       {entities_->pose, entities_->odom, entities_->tf, entities_->keyframe, entities_->status}) {
     ok = ok && w->wait_for_acknowledgments(max_wait) == ReturnCode_t::RETCODE_OK;
   }
   return ok;

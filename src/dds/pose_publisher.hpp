@@ -54,8 +54,8 @@ class PosePublisher {
   /// `status` may be null (no status topic traffic). `robot` goes into Status.robot.
   PosePublisher(const DdsConfig& config, PoseRing& poses, StatusMailbox* status = nullptr,
                 std::string robot = {});
-  PosePublisher(const DdsConfig& config, PoseOverwriteRing& poses,
-                StatusMailbox* status = nullptr, std::string robot = {});
+  PosePublisher(const DdsConfig& config, PoseOverwriteRing& poses, StatusMailbox* status = nullptr,
+                std::string robot = {});
   ~PosePublisher();
   PosePublisher(const PosePublisher&) = delete;
   PosePublisher& operator=(const PosePublisher&) = delete;

@@ -9,7 +9,9 @@
 namespace vigs::dds {
 namespace {
 
-double finite_or_zero(double v) { return std::isfinite(v) ? v : 0.0; }
+double finite_or_zero(double v) {
+  return std::isfinite(v) ? v : 0.0;
+}
 
 std::string name_of(const char (&n)[kStatusNameLength]) {
   return std::string(n, strnlen(n, kStatusNameLength));

@@ -62,12 +62,12 @@ struct StatusSnapshot {
 
   std::int64_t t_ns = 0;  ///< when the snapshot was taken (the pipeline's clock), ns
   TrackingState tracking_state = TrackingState::kStarting;
-  std::uint64_t frames_tracked = 0;   ///< poses produced since start
-  std::uint64_t gaussian_count = 0;   ///< Gaussians in the map
-  double mapping_budget_used = 0;     ///< mapper tick time / tick budget, last period
-  std::uint32_t thread_count = 0;     ///< valid entries in threads
-  std::uint32_t ring_count = 0;       ///< valid entries in rings
-  std::uint32_t fault_count = 0;      ///< valid entries in faults
+  std::uint64_t frames_tracked = 0;  ///< poses produced since start
+  std::uint64_t gaussian_count = 0;  ///< Gaussians in the map
+  double mapping_budget_used = 0;    ///< mapper tick time / tick budget, last period
+  std::uint32_t thread_count = 0;    ///< valid entries in threads
+  std::uint32_t ring_count = 0;      ///< valid entries in rings
+  std::uint32_t fault_count = 0;     ///< valid entries in faults
   ThreadStatusEntry threads[kMaxThreads];
   RingStatusEntry rings[kMaxRings];
   FaultCounterEntry faults[kMaxFaults];

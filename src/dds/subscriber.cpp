@@ -113,7 +113,8 @@ void Subscriber::subscribe(const std::string& topic_name, std::function<void(con
   r->on_sample = std::move(cb);
   r->reader = m.subscriber->create_datareader(topic, m.reader_qos, r.get(),
                                               fdds::StatusMask::data_available());
-  if (r->reader == nullptr) throw std::runtime_error("Fast DDS: cannot create reader " + topic_name);
+  if (r->reader == nullptr)
+    throw std::runtime_error("Fast DDS: cannot create reader " + topic_name);
   m.types.push_back(type);
   m.readers.push_back(std::move(r));
 }

@@ -24,10 +24,14 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
     const int v = std::atoi(argv[i + 1]);
-    if (k == "--domain") domain = v;
-    else if (k == "--count") count = v;
-    else if (k == "--timeout-s") timeout_s = v;
-    else if (k == "--shm") shm = v != 0;
+    if (k == "--domain")
+      domain = v;
+    else if (k == "--count")
+      count = v;
+    else if (k == "--timeout-s")
+      timeout_s = v;
+    else if (k == "--shm")
+      shm = v != 0;
     else {
       std::fprintf(stderr, "dds_pose_sink: unknown option %s\n", k.c_str());
       return 64;

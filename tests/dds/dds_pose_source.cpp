@@ -1,8 +1,10 @@
 // dds_pose_source: the publishing process of the two-process DDS tests. Runs a real
 // PosePublisher on the built-in (loopback-only) configuration, waits for `--subscribers`
-// matched readers, then pushes the pose pattern (tests/dds/pose_pattern.hpp) into the ring at
+// matched readers (on pose, odom and tf; with --wait-all 0 on pose only), then pushes the pose
+// pattern (tests/dds/pose_pattern.hpp) into the ring at
 // `--rate-hz`, a status snapshot every 20 poses, and exits once every matched reader has
-// acknowledged what was written (or 10 s passed). Prints one JSON line of counters. Exit 0 on success, 2 when no subscriber came.
+// acknowledged what was written (or 10 s passed). Prints one JSON line of counters. Exit 0 on
+// success, 2 when no subscriber came.
 #include <fastdds/dds/publisher/DataWriter.hpp>
 
 #include <chrono>
@@ -24,17 +26,27 @@ int main(int argc, char** argv) {
   int domain = -1, count = 100, subscribers = 1, wait_s = 20;
   double rate_hz = 100;
   bool shm = true;
+  bool wait_all = true;  // wait for readers on pose, odom and tf (else on pose only)
   std::string config_file, iface;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
     const char* v = argv[i + 1];
-    if (k == "--domain") domain = std::atoi(v);
-    else if (k == "--count") count = std::atoi(v);
-    else if (k == "--rate-hz") rate_hz = std::atof(v);
-    else if (k == "--subscribers") subscribers = std::atoi(v);
-    else if (k == "--wait-s") wait_s = std::atoi(v);
-    else if (k == "--shm") shm = std::atoi(v) != 0;
-    else if (k == "--config") config_file = v;
+    if (k == "--domain")
+      domain = std::atoi(v);
+    else if (k == "--count")
+      count = std::atoi(v);
+    else if (k == "--rate-hz")
+      rate_hz = std::atof(v);
+    else if (k == "--subscribers")
+      subscribers = std::atoi(v);
+    else if (k == "--wait-s")
+      wait_s = std::atoi(v);
+    else if (k == "--shm")
+      shm = std::atoi(v) != 0;
+    else if (k == "--wait-all")
+      wait_all = std::atoi(v) != 0;
+    else if (k == "--config")
+      config_file = v;
     else {
       std::fprintf(stderr, "dds_pose_source: unknown option %s\n", k.c_str());
       return 64;
@@ -54,8 +66,15 @@ int main(int argc, char** argv) {
     dds::PosePublisher::StatusMailbox status(1);
     dds::PosePublisher pub(cfg, ring, &status, "test_robot");
     pub.start();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wait_s);
+    if (!wait_all) {
+      while (pub.pose_subscribers() < subscribers && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
+    }
     if (subscribers > 0 &&
-        !pub.wait_for_subscribers(subscribers, std::chrono::seconds(wait_s))) {
+        (wait_all ? !pub.wait_for_subscribers(subscribers, std::chrono::seconds(wait_s))
+                  : pub.pose_subscribers() < subscribers)) {
       std::fprintf(stderr, "dds_pose_source: no subscriber within %d s\n", wait_s);
       return 2;
     }

@@ -18,13 +18,15 @@ namespace vigs::dds::test {
 
 class ChildProcess {
  public:
-  /// env: extra NAME=VALUE entries for the child.
-  ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env = {}) {
+  /// env: extra NAME=VALUE entries for the child. merge_stderr: capture stderr too.
+  ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env = {},
+               bool merge_stderr = false) {
     int fds[2];
     if (pipe(fds) != 0) std::abort();
     pid_ = fork();
     if (pid_ == 0) {
       dup2(fds[1], STDOUT_FILENO);
+      if (merge_stderr) dup2(fds[1], STDERR_FILENO);
       close(fds[0]);
       close(fds[1]);
       for (const std::string& e : env) putenv(const_cast<char*>(e.c_str()));

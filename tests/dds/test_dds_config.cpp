@@ -68,8 +68,8 @@ TEST_F(DdsConfigTest, DomainIdOutOfRangeNamesTheKey) {
 TEST_F(DdsConfigTest, InterfaceThisMachineDoesNotHaveNamesTheKey) {
   config::DdsSettings s;
   s.interface_ip = "10.254.254.254";
-  expect_error(s, "", {"dds.interface_ip", "10.254.254.254", "not an address of this machine",
-                       "127.0.0.1"});
+  expect_error(
+      s, "", {"dds.interface_ip", "10.254.254.254", "not an address of this machine", "127.0.0.1"});
   s.interface_ip = "eth0";
   expect_error(s, "", {"dds.interface_ip", "not an IPv4 address"});
 }
@@ -108,8 +108,8 @@ TEST_F(DdsConfigTest, MalformedXmlNamesFileAndLine) {
 TEST_F(DdsConfigTest, UnknownProfileNameNamesKeyAndListsTheFilesProfiles) {
   config::DdsSettings s;
   s.pose_qos_profile = "no_such_profile";
-  expect_error(s, "", {"dds.pose_qos_profile", "no_such_profile", kBuiltinQosName,
-                       "vigs_pose_writer"});
+  expect_error(s, "",
+               {"dds.pose_qos_profile", "no_such_profile", kBuiltinQosName, "vigs_pose_writer"});
   s = {};
   s.reader_qos_profile = "vigs_pose_writer";  // exists, but as a writer profile
   expect_error(s, "", {"dds.reader_qos_profile", "data_reader"});
@@ -132,7 +132,8 @@ TEST_F(DdsConfigTest, ShippedRobotFilesUseTheShippedQosFile) {
   const fs::path root(VIGS_SOURCE_DIR);
   const auto file = (root / "firmware_config/robots/sim_office.yaml").string();
   const DdsConfig c = resolve_dds_config(config::load_config_file(file).dds, file);
-  EXPECT_EQ(fs::canonical(c.qos_source), fs::canonical(root / "firmware_config/dds/qos_profiles.xml"));
+  EXPECT_EQ(fs::canonical(c.qos_source),
+            fs::canonical(root / "firmware_config/dds/qos_profiles.xml"));
   EXPECT_TRUE(c.loopback_only);
   ASSERT_EQ(c.initial_peers.size(), 1u);
   EXPECT_EQ(c.initial_peers[0], "127.0.0.1");

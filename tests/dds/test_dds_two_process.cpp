@@ -76,8 +76,7 @@ void run_pair(int domain, bool shm) {
       r.statuses.push_back(m);
     });
     test::ChildProcess pub({VIGS_DDS_POSE_SOURCE, "--domain", std::to_string(domain), "--count",
-                            std::to_string(kCount), "--rate-hz", "100", "--shm",
-                            shm ? "1" : "0"});
+                            std::to_string(kCount), "--rate-hz", "100", "--shm", shm ? "1" : "0"});
     ASSERT_EQ(pub.wait(90s), 0) << pub.output();
     for (int i = 0; i < 300 && r.pose_count() < kCount; ++i) std::this_thread::sleep_for(10ms);
     EXPECT_NE(pub.output().find("\"ring_drops\":0"), std::string::npos) << pub.output();
@@ -123,8 +122,12 @@ void run_pair(int domain, bool shm) {
   EXPECT_EQ(r.statuses.back().tracking_state(), 1);
 }
 
-TEST(DdsTwoProcess, EveryPoseArrivesInOrderOverSharedMemory) { run_pair(151, true); }
-TEST(DdsTwoProcess, EveryPoseArrivesInOrderOverUdpLoopback) { run_pair(152, false); }
+TEST(DdsTwoProcess, EveryPoseArrivesInOrderOverSharedMemory) {
+  run_pair(151, true);
+}
+TEST(DdsTwoProcess, EveryPoseArrivesInOrderOverUdpLoopback) {
+  run_pair(152, false);
+}
 
 }  // namespace
 }  // namespace vigs::dds
