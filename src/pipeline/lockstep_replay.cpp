@@ -145,7 +145,8 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   } catch (const std::runtime_error& e) {  // for_each_recorded_frame names the file and offset
     throw RecordingError(e.what());
   }
-  if (!odometry) throw RecordingError(path + ": no RGB-D frames on " + eval::kRgbTopic);
+  if (!odometry)
+    throw RecordingError(path + ": no RGB-D frames on " + std::string(io::topics::kRgb.name));
   result.counters = odometry->counters();
   result.imu_samples_fed = feeder.fed();
   if (mapper) {

@@ -54,8 +54,8 @@ struct ReplayOptions {
   /// > 0: build a Gaussian map in lockstep (lockstep_mapping.hpp) with this many mapper
   /// iterations after every frame; 0: no map.
   int map_iterations_per_frame = 0;
-  std::string imu_topic = kImuTopic;
-  std::string pose_topic = kBodyPoseTopic;
+  std::string imu_topic{io::topics::kImu.name};
+  std::string pose_topic{io::topics::kBodyPose.name};
 };
 
 struct ReplayResult {

@@ -23,9 +23,9 @@ constexpr std::int64_t kT0 = 1'700'000'000'123'456'789;  // seconds in a double 
 
 struct Writer {
   explicit Writer(const std::string& path) : w(path, {}) {
-    info = ros_msgs::add_channel<ros_msgs::CameraInfo>(w, eval::kCameraInfoTopic);
-    rgb = ros_msgs::add_channel<ros_msgs::Image>(w, eval::kRgbTopic);
-    depth = ros_msgs::add_channel<ros_msgs::Image>(w, eval::kDepthTopic);
+    info = ros_msgs::add_channel<ros_msgs::CameraInfo>(w, topics::kCameraInfo.name);
+    rgb = ros_msgs::add_channel<ros_msgs::Image>(w, topics::kRgb.name);
+    depth = ros_msgs::add_channel<ros_msgs::Image>(w, topics::kDepth.name);
   }
   void frame(std::int64_t t_ns, const std::string& colour_encoding, std::int64_t depth_t_ns,
              const std::string& depth_encoding) {
