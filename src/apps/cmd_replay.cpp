@@ -28,7 +28,7 @@ std::string count(long v) {
   return json_number(static_cast<double>(v));
 }
 
-/// stats.json: the keys eval::RunStats reads plus the replay's own counters.
+/// stats.json: the keys pipeline::RunStats reads plus the replay's own counters.
 std::string stats_json(const pipeline::ReplayResult& r, const std::string& recording) {
   const pipeline::OdometryCounters& c = r.counters;
   const double frames = static_cast<double>(r.frames.size());

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <span>
 
-#include "eval/mcap_frames.hpp"
 #include "inertial/gravity_alignment.hpp"
 #include "io/io_error.hpp"
+#include "io/recording/recorded_frames.hpp"
 #include "pipeline/lockstep_mapping.hpp"
 
 namespace vigs::pipeline {
@@ -84,7 +84,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   std::optional<LockstepMapper> mapper;
   ImuFeeder feeder(motion.imu);
   std::int64_t last_t_ns = 0;
-  const auto on_recorded = [&](const eval::RecordedFrame& rec) {
+  const auto on_recorded = [&](const io::RecordedFrame& rec) {
     const std::int64_t t_ns = rec.view.t_ns;
     if (!odometry) {
       OdometryOptions opt;
@@ -136,7 +136,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     }
   };
   try {
-    eval::for_each_recorded_frame(path, on_recorded);
+    io::for_each_recorded_frame(path, on_recorded);
   } catch (const StopReading&) {
   } catch (const RecordingError&) {
     throw;

@@ -4,7 +4,7 @@
 // tracker's threads use a fixed partition).
 //
 // Order: the IMU and ground truth are read first (recorded_motion.hpp; a damaged file is
-// refused there), then the frames are streamed (eval::for_each_recorded_frame) and before each
+// refused there), then the frames are streamed (io::for_each_recorded_frame) and before each
 // frame every IMU sample with t <= the frame stamp is fed, in stamp order.
 //
 // The first frame's pose (the world frame must be gravity-aligned, z up, for the IMU):

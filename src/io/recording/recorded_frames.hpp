@@ -15,7 +15,7 @@
 #include "core/types/rgbd_view.hpp"
 #include "io/recording_topics.hpp"
 
-namespace vigs::eval {
+namespace vigs::io {
 
 /// Largest |t_depth - t_colour| still paired. Registered depth and colour of one capture carry
 /// the same stamp (the simulator, uHumans, the RGB-D driver's pool frames); 1 ms also pairs
@@ -48,4 +48,4 @@ McapFrameStats for_each_recorded_frame(
     const std::string& depth_topic = std::string(io::topics::kDepth.name),
     std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
 
-}  // namespace vigs::eval
+}  // namespace vigs::io

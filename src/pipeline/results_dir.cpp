@@ -1,4 +1,4 @@
-#include "eval/results_dir.hpp"
+#include "pipeline/results_dir.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace vigs::eval {
+namespace vigs::pipeline {
 namespace {
 
 std::string read_text(const std::string& path) {
@@ -178,4 +178,4 @@ std::string format_keyframe_times(const std::vector<double>& t_s) {
   return out;
 }
 
-}  // namespace vigs::eval
+}  // namespace vigs::pipeline
