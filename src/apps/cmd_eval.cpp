@@ -20,7 +20,7 @@ namespace vigs::apps {
 namespace {
 
 struct EvalArgs {
-  std::string gt, est, align = "se3", topic = eval::kGroundTruthTopic;
+  std::string gt, est, align = "se3", topic = std::string(io::topics::kBodyPose.name);
   double max_dt_s = 0.02;
   double delta = 1.0;
   std::string delta_unit = "frames";

@@ -24,7 +24,7 @@ struct ReplayArgs {
   bool quiet = false;
 };
 
-/// stats.json: the keys eval::RunStats reads plus the replay's own counters. Rates over no
+/// stats.json: the keys pipeline::RunStats reads plus the replay's own counters. Rates over no
 /// frames or no wall time are not defined and written as null.
 io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recording) {
   const pipeline::OdometryCounters& c = r.counters;

@@ -7,8 +7,8 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "eval/mcap_frames.hpp"
 #include "io/image_io.hpp"
+#include "io/recording/recorded_frames.hpp"
 #include "mapping/image_metrics.hpp"
 #include "mapping/rasterizer.hpp"
 #include "mapping/ssim.hpp"
@@ -113,7 +113,7 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
   std::vector<double> ref, test, mask;
   ImageU8 f_rgb;       // the frame's colour as RGB
   ImageF32 f_depth_m;  // and depth, 0 = no measurement
-  const auto stats = for_each_recorded_frame(mcap_path, [&](const RecordedFrame& rec) {
+  const auto stats = io::for_each_recorded_frame(mcap_path, [&](const io::RecordedFrame& rec) {
     const double t_s = static_cast<double>(rec.view.t_ns) * 1e-9;  // header stamp
     const bool keyframe = keyframe_t_s && near_any(*keyframe_t_s, t_s, opt.keyframe_tol_s);
     if (keyframe) ++q.keyframe_frames;

@@ -128,19 +128,20 @@ std::string opt_num(const std::optional<double>& v, const char* f) {
 void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, ReportResult& r,
                          std::string& md_sections, std::vector<std::string>& not_measured) {
   const fs::path dir(opt.results_dir);
-  const bool have_map = fs::exists(dir / kMapFile);
-  const bool have_kf = fs::exists(dir / kKeyframesFile);
-  const bool have_stats = fs::exists(dir / kStatsFile);
+  const bool have_map = fs::exists(dir / pipeline::kMapFile);
+  const bool have_kf = fs::exists(dir / pipeline::kKeyframesFile);
+  const bool have_stats = fs::exists(dir / pipeline::kStatsFile);
   for (const auto& [have, name] :
-       {std::pair{have_map, kMapFile}, std::pair{have_kf, kKeyframesFile},
-        std::pair{have_stats, kStatsFile}})
+       {std::pair{have_map, pipeline::kMapFile}, std::pair{have_kf, pipeline::kKeyframesFile},
+        std::pair{have_stats, pipeline::kStatsFile}})
     if (!have) r.missing.emplace_back(name);
   r.have_keyframes = have_kf;
-  if (have_kf) r.keyframe_t_s = read_keyframe_times((dir / kKeyframesFile).string());
-  if (have_stats) r.run_stats = read_run_stats((dir / kStatsFile).string());
+  if (have_kf)
+    r.keyframe_t_s = pipeline::read_keyframe_times((dir / pipeline::kKeyframesFile).string());
+  if (have_stats) r.run_stats = pipeline::read_run_stats((dir / pipeline::kStatsFile).string());
   mapping::GaussianMap map;
   if (have_map) {
-    map = mapping::read_gaussian_ply((dir / kMapFile).string());
+    map = mapping::read_gaussian_ply((dir / pipeline::kMapFile).string());
     r.gaussians = static_cast<long>(map.size());
   }
   const bool mcap = is_mcap_path(opt.gt_path);
@@ -175,7 +176,7 @@ void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, Report
   md_sections += "| Gaussians in the map | " +
                  (have_map ? std::to_string(r.gaussians) : std::string("not measured")) +
                  " | map.ply |\n";
-  const RunStats& st = r.run_stats;
+  const pipeline::RunStats& st = r.run_stats;
   std::optional<double> fps = st.fps;
   std::string fps_source = "stats.json fps";
   if (!fps && st.frames && st.wall_s && *st.wall_s > 0) {

@@ -14,8 +14,8 @@
 #include "core/geometry/se3.hpp"
 #include "eval/ate.hpp"
 #include "eval/render_quality.hpp"
-#include "eval/results_dir.hpp"
 #include "eval/rpe.hpp"
+#include "pipeline/results_dir.hpp"
 
 namespace vigs::eval {
 
@@ -45,7 +45,7 @@ struct ReportResult {
   bool have_keyframes = false;       ///< keyframes.txt was present
   std::vector<double> keyframe_t_s;  ///< from keyframes.txt
   long gaussians = -1;               ///< from map.ply, -1 when not read
-  RunStats run_stats;
+  pipeline::RunStats run_stats;
   std::vector<std::string> missing;  ///< optional RESULTS_DIR files absent
 };
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "mapping/tracking_keyframe.hpp"
+#include "pipeline/tracking_keyframe.hpp"
 
 namespace vigs::pipeline {
 namespace {
@@ -30,7 +30,7 @@ void LockstepMapper::add_keyframe(const tracking::Keyframe& kf, const RgbdView& 
   copy_depth_m(frame, depth_m);
   auto m = std::make_unique<mapping::MapperKeyframe>();
   m->id = next_id_++;
-  m->gaussians = mapping::to_keyframe_gaussians(kf);
+  m->gaussians = to_keyframe_gaussians(kf);
   m->camera = mapping::RenderCamera::from(camera_, kf.T_w_c);
   m->rgb.resize(rgb.data.size());
   for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;

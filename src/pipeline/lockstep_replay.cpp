@@ -4,9 +4,9 @@
 #include <cmath>
 #include <span>
 
-#include "eval/mcap_frames.hpp"
 #include "inertial/gravity_alignment.hpp"
 #include "io/io_error.hpp"
+#include "io/recording/recorded_frames.hpp"
 #include "pipeline/lockstep_mapping.hpp"
 
 namespace vigs::pipeline {
@@ -84,7 +84,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   std::optional<LockstepMapper> mapper;
   ImuFeeder feeder(motion.imu);
   std::int64_t last_t_ns = 0;
-  const auto on_recorded = [&](const eval::RecordedFrame& rec) {
+  const auto on_recorded = [&](const io::RecordedFrame& rec) {
     const std::int64_t t_ns = rec.view.t_ns;
     if (!odometry) {
       OdometryOptions opt;
@@ -136,7 +136,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     }
   };
   try {
-    eval::for_each_recorded_frame(path, on_recorded);
+    io::for_each_recorded_frame(path, on_recorded);
   } catch (const StopReading&) {
   } catch (const RecordingError&) {
     throw;
@@ -145,7 +145,8 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   } catch (const std::runtime_error& e) {  // for_each_recorded_frame names the file and offset
     throw RecordingError(e.what());
   }
-  if (!odometry) throw RecordingError(path + ": no RGB-D frames on " + eval::kRgbTopic);
+  if (!odometry)
+    throw RecordingError(path + ": no RGB-D frames on " + std::string(io::topics::kRgb.name));
   result.counters = odometry->counters();
   result.imu_samples_fed = feeder.fed();
   if (mapper) {

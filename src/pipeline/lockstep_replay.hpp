@@ -4,7 +4,7 @@
 // tracker's threads use a fixed partition).
 //
 // Order: the IMU and ground truth are read first (recorded_motion.hpp; a damaged file is
-// refused there), then the frames are streamed (eval::for_each_recorded_frame) and before each
+// refused there), then the frames are streamed (io::for_each_recorded_frame) and before each
 // frame every IMU sample with t <= the frame stamp is fed, in stamp order.
 //
 // The first frame's pose (the world frame must be gravity-aligned, z up, for the IMU):
@@ -54,8 +54,8 @@ struct ReplayOptions {
   /// > 0: build a Gaussian map in lockstep (lockstep_mapping.hpp) with this many mapper
   /// iterations after every frame; 0: no map.
   int map_iterations_per_frame = 0;
-  std::string imu_topic = kImuTopic;
-  std::string pose_topic = kBodyPoseTopic;
+  std::string imu_topic{io::topics::kImu.name};
+  std::string pose_topic{io::topics::kBodyPose.name};
 };
 
 struct ReplayResult {

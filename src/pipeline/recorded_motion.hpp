@@ -13,11 +13,9 @@
 
 #include "core/geometry/se3.hpp"
 #include "core/types/imu_sample.hpp"
+#include "io/recording_topics.hpp"
 
 namespace vigs::pipeline {
-
-inline constexpr const char* kImuTopic = "/vigs/imu";
-inline constexpr const char* kBodyPoseTopic = "/vigs/ground_truth/body_pose";
 
 /// A recording that cannot be replayed: unreadable, damaged, or a message of the wrong type.
 /// The message names the file (and the byte offset where one applies).
@@ -40,9 +38,9 @@ struct RecordedMotion {
 /// the reader found any damage (truncation, bad CRC, malformed record: a partial recording is
 /// refused rather than replayed short), or when a message on either topic does not decode.
 /// A missing topic is not an error: the vector stays empty.
-RecordedMotion read_recorded_motion(const std::string& path,
-                                    const std::string& imu_topic = kImuTopic,
-                                    const std::string& pose_topic = kBodyPoseTopic);
+RecordedMotion read_recorded_motion(
+    const std::string& path, const std::string& imu_topic = std::string(io::topics::kImu.name),
+    const std::string& pose_topic = std::string(io::topics::kBodyPose.name));
 
 /// T_w_x at t_ns, interpolated between the two poses around it (position linearly, rotation by
 /// slerp); nullopt outside [first, last] stamp or when the gap between them exceeds max_gap_ns.

@@ -9,10 +9,10 @@
 #include <system_error>
 #include <vector>
 
-#include "eval/results_dir.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tum_trajectory.hpp"
 #include "mapping/ply_io.hpp"
+#include "pipeline/results_dir.hpp"
 
 namespace vigs::pipeline {
 
@@ -40,7 +40,7 @@ void write_results_dir(const std::string& dir, const ReplayResult& r,
     poses.push_back(p);
     if (f.keyframe) keyframe_t_s.push_back(p.t_s);
   }
-  io::write_tum_trajectory((root / eval::kTrajectoryFile).string(), poses);
+  io::write_tum_trajectory((root / pipeline::kTrajectoryFile).string(), poses);
 
   const auto write_text = [](const std::string& path, const std::string& text) {
     io::write_file_atomically(path, [&](std::FILE* f) {
@@ -48,10 +48,11 @@ void write_results_dir(const std::string& dir, const ReplayResult& r,
         throw std::runtime_error(path + ": write failed");
     });
   };
-  write_text((root / eval::kKeyframesFile).string(), "# keyframe stamps (s) of a vigs replay\n" +
-                                                         eval::format_keyframe_times(keyframe_t_s));
-  if (r.map) mapping::write_gaussian_ply((root / eval::kMapFile).string(), *r.map);
-  write_text((root / eval::kStatsFile).string(), stats_json);
+  write_text(
+      (root / pipeline::kKeyframesFile).string(),
+      "# keyframe stamps (s) of a vigs replay\n" + pipeline::format_keyframe_times(keyframe_t_s));
+  if (r.map) mapping::write_gaussian_ply((root / pipeline::kMapFile).string(), *r.map);
+  write_text((root / pipeline::kStatsFile).string(), stats_json);
 }
 
 }  // namespace vigs::pipeline

@@ -1,5 +1,5 @@
 #pragma once
-// Writes a replay's RESULTS_DIR as src/eval/results_dir.hpp defines it: trajectory.tum
+// Writes a replay's RESULTS_DIR as pipeline/results_dir.hpp defines it: trajectory.tum
 // (T_w_c of every frame), keyframes.txt (stamps of the frames that became keyframes) and
 // stats.json (formatted by the caller: "frames", "wall_s", "fps", "peak_rss_bytes", ...).
 // Every file is written to a temporary file next to it and renamed into place, so a reader

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "io/io_error.hpp"
+#include "io/recording_topics.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
@@ -33,11 +34,11 @@ McapSink::McapSink(const std::string& path, const McapSinkOptions& options)
                                 opt_.depth_encoding);
   }
   using namespace io::ros_msgs;
-  ch_info_ = add_channel<CameraInfo>(writer_, "/vigs/camera_info");
-  ch_rgb_ = add_channel<Image>(writer_, "/vigs/rgb");
-  ch_depth_ = add_channel<Image>(writer_, "/vigs/depth");
-  ch_imu_ = add_channel<Imu>(writer_, "/vigs/imu");
-  ch_gt_ = add_channel<PoseStamped>(writer_, "/vigs/ground_truth/body_pose");
+  ch_info_ = add_channel<CameraInfo>(writer_, io::topics::kCameraInfo.name);
+  ch_rgb_ = add_channel<Image>(writer_, io::topics::kRgb.name);
+  ch_depth_ = add_channel<Image>(writer_, io::topics::kDepth.name);
+  ch_imu_ = add_channel<Imu>(writer_, io::topics::kImu.name);
+  ch_gt_ = add_channel<PoseStamped>(writer_, io::topics::kBodyPose.name);
 }
 
 void McapSink::frame(std::int64_t t_ns, const PinholeCamera& cam, const RgbdFrame& f) {
@@ -45,7 +46,7 @@ void McapSink::frame(std::int64_t t_ns, const PinholeCamera& cam, const RgbdFram
   const auto t = static_cast<std::uint64_t>(t_ns);
   CameraInfo info;
   info.header.stamp = Time::from_ns(t_ns);
-  info.header.frame_id = "camera";
+  info.header.frame_id = io::topics::kCameraInfo.frame_id;  // = the images' frame id
   info.width = static_cast<std::uint32_t>(cam.width_px);
   info.height = static_cast<std::uint32_t>(cam.height_px);
   info.distortion_model = "plumb_bob";
@@ -91,7 +92,7 @@ void McapSink::imu(const ImuSample& s) {
   using namespace io::ros_msgs;
   Imu m;
   m.header.stamp = Time::from_ns(s.t_ns);
-  m.header.frame_id = "body";
+  m.header.frame_id = io::topics::kImu.frame_id;
   m.orientation_covariance[0] = -1.0;  // no orientation estimate
   m.angular_velocity = {s.gyro_rps[0], s.gyro_rps[1], s.gyro_rps[2]};
   m.linear_acceleration = {s.accel_mps2[0], s.accel_mps2[1], s.accel_mps2[2]};
@@ -108,7 +109,7 @@ void McapSink::ground_truth(std::int64_t t_ns, const geometry::Pose& T_w_b) {
   using namespace io::ros_msgs;
   PoseStamped m;
   m.header.stamp = Time::from_ns(t_ns);
-  m.header.frame_id = "world";
+  m.header.frame_id = io::topics::kBodyPose.frame_id;
   const Eigen::Quaterniond q(T_w_b.linear());
   m.pose.position = {T_w_b.translation().x(), T_w_b.translation().y(), T_w_b.translation().z()};
   m.pose.orientation = {q.x(), q.y(), q.z(), q.w()};

@@ -138,15 +138,16 @@ class RenderReportTest : public ::testing::Test {
     for (int it = 0; it < 100; ++it)
       opt.iterate(map, views[static_cast<std::size_t>(it) % views.size()].view);
     gaussians_ = map.size();
-    mapping::write_gaussian_ply((dir_ / kMapFile).string(), map);
-    io::write_tum_trajectory((dir_ / kTrajectoryFile).string(), truth);
+    mapping::write_gaussian_ply((dir_ / pipeline::kMapFile).string(), map);
+    io::write_tum_trajectory((dir_ / pipeline::kTrajectoryFile).string(), truth);
     io::write_tum_trajectory((dir_ / "trajectory_perturbed.tum").string(), perturbed);
-    write_text((dir_ / kKeyframesFile).string(), format_keyframe_times(keyframes_));
+    write_text((dir_ / pipeline::kKeyframesFile).string(),
+               pipeline::format_keyframe_times(keyframes_));
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
-    write_text((dir_ / kStatsFile).string(),
+    write_text((dir_ / pipeline::kStatsFile).string(),
                "{\"producer\": \"test_eval_render_report\", \"frames\": " +
                    std::to_string(frames_) + ", \"wall_s\": " + std::to_string(wall_s) +
                    ", \"peak_rss_bytes\": " + std::to_string(ru.ru_maxrss * 1024L) +
@@ -175,7 +176,7 @@ class RenderReportTest : public ::testing::Test {
 
 TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
   ASSERT_EQ(frames_, 41u);  // 2 s at 20 Hz
-  const ReportResult good = write_report(options(dir_, kTrajectoryFile));
+  const ReportResult good = write_report(options(dir_, pipeline::kTrajectoryFile));
   const std::string md = read_all(good.report_path);
   const ReportResult bad = write_report(options(dir_, "trajectory_perturbed.tum"));
   ASSERT_TRUE(good.quality_measured && bad.quality_measured);
@@ -238,8 +239,8 @@ TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
 TEST_F(RenderReportTest, MissingOptionalFilesAreReportedNotInvented) {
   const fs::path d = dir_ / "partial";
   fs::create_directories(d);
-  fs::copy_file(dir_ / kTrajectoryFile, d / kTrajectoryFile);
-  ReportResult r = write_report(options(d, kTrajectoryFile));
+  fs::copy_file(dir_ / pipeline::kTrajectoryFile, d / pipeline::kTrajectoryFile);
+  ReportResult r = write_report(options(d, pipeline::kTrajectoryFile));
   std::string md = read_all(r.report_path);
   EXPECT_FALSE(r.quality_measured);
   EXPECT_EQ(r.gaussians, -1);
@@ -254,9 +255,9 @@ TEST_F(RenderReportTest, MissingOptionalFilesAreReportedNotInvented) {
   EXPECT_EQ(md.find("## Rendering quality"), std::string::npos);
 
   // A map but no keyframes.txt: every 5th frame measured, held-out stated as not measured.
-  fs::copy_file(dir_ / kMapFile, d / kMapFile);
-  write_text((d / kStatsFile).string(), "{\"fps\": 12.5}");
-  r = write_report(options(d, kTrajectoryFile));
+  fs::copy_file(dir_ / pipeline::kMapFile, d / pipeline::kMapFile);
+  write_text((d / pipeline::kStatsFile).string(), "{\"fps\": 12.5}");
+  r = write_report(options(d, pipeline::kTrajectoryFile));
   md = read_all(r.report_path);
   ASSERT_TRUE(r.quality_measured);
   EXPECT_EQ(r.quality.every_nth.frames(), 9u);
@@ -267,11 +268,11 @@ TEST_F(RenderReportTest, MissingOptionalFilesAreReportedNotInvented) {
   EXPECT_NE(md.find("**Peak memory**: stats.json has no peak_rss_bytes."), std::string::npos);
 
   // Damaged stats.json: a clear error naming the file.
-  write_text((d / kStatsFile).string(), "{\"fps\": fast}");
+  write_text((d / pipeline::kStatsFile).string(), "{\"fps\": fast}");
   try {
-    write_report(options(d, kTrajectoryFile));
+    write_report(options(d, pipeline::kTrajectoryFile));
     FAIL();
-  } catch (const ResultsFileError& e) {
+  } catch (const pipeline::ResultsFileError& e) {
     EXPECT_NE(std::string(e.what()).find("stats.json: byte 8"), std::string::npos) << e.what();
   }
 }

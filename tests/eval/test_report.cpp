@@ -66,7 +66,7 @@ class ReportTest : public ::testing::Test {
 };
 
 TEST_F(ReportTest, GroundTruthFromTheRecordingMatchesTheSimulator) {
-  const Trajectory gt = load_mcap_trajectory(mcap_, kGroundTruthTopic);
+  const Trajectory gt = load_mcap_trajectory(mcap_, std::string(io::topics::kBodyPose.name));
   ASSERT_EQ(gt.poses.size(), 401u);  // 2 s at 200 Hz
   EXPECT_TRUE(gt.poses[300].T_w_x.isApprox(sim_->body_pose(1.5), 1e-9));
   EXPECT_THROW(load_mcap_trajectory(mcap_, "/nope"), TrajectoryFileError);

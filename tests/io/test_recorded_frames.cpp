@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "eval/mcap_frames.hpp"
 #include "io/mcap/mcap_writer.hpp"
+#include "io/recording/recorded_frames.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/typed_io.hpp"
@@ -23,9 +23,9 @@ constexpr std::int64_t kT0 = 1'700'000'000'123'456'789;  // seconds in a double 
 
 struct Writer {
   explicit Writer(const std::string& path) : w(path, {}) {
-    info = ros_msgs::add_channel<ros_msgs::CameraInfo>(w, eval::kCameraInfoTopic);
-    rgb = ros_msgs::add_channel<ros_msgs::Image>(w, eval::kRgbTopic);
-    depth = ros_msgs::add_channel<ros_msgs::Image>(w, eval::kDepthTopic);
+    info = ros_msgs::add_channel<ros_msgs::CameraInfo>(w, topics::kCameraInfo.name);
+    rgb = ros_msgs::add_channel<ros_msgs::Image>(w, topics::kRgb.name);
+    depth = ros_msgs::add_channel<ros_msgs::Image>(w, topics::kDepth.name);
   }
   void frame(std::int64_t t_ns, const std::string& colour_encoding, std::int64_t depth_t_ns,
              const std::string& depth_encoding) {
@@ -81,7 +81,7 @@ struct Seen {
 
 std::vector<Seen> read_all(const std::string& path) {
   std::vector<Seen> seen;
-  eval::for_each_recorded_frame(path, [&](const eval::RecordedFrame& f) {
+  io::for_each_recorded_frame(path, [&](const io::RecordedFrame& f) {
     EXPECT_EQ(f.view.width_px, kW);
     EXPECT_EQ(f.camera.fx_px, 10.0);
     const float z = f.view.with_depth_m([](auto at) { return at(2, 1); });
@@ -94,10 +94,10 @@ TEST(RecordedFrames, StampsStayIntegerAndDepthPairsWithinTolerance) {
   const std::string path = test::temp_path("frames_pairing.mcap");
   {
     Writer w(path);
-    const std::int64_t half = eval::kDepthPairToleranceNs / 2;
+    const std::int64_t half = kDepthPairToleranceNs / 2;
     w.frame(kT0, "rgb8", kT0, "16UC1");                                   // same stamp
     w.frame(kT0 + 50'000'000, "rgb8", kT0 + 50'000'000 + half, "32FC1");  // inside
-    w.frame(kT0 + 100'000'000, "rgb8", kT0 + 100'000'000 - 2 * eval::kDepthPairToleranceNs,
+    w.frame(kT0 + 100'000'000, "rgb8", kT0 + 100'000'000 - 2 * kDepthPairToleranceNs,
             "16UC1");  // outside: the frame has no depth
     w.w.close();
   }

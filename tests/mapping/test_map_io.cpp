@@ -11,7 +11,7 @@
 #include "mapping/insertion.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/ply_io.hpp"
-#include "mapping/tracking_keyframe.hpp"
+#include "pipeline/tracking_keyframe.hpp"
 #include "test_scene.hpp"
 
 namespace vigs::mapping {
@@ -155,7 +155,7 @@ TEST(MappingInsertion, TrackerKeyframesInsertFromTheRawCovariance) {
   kf.cloud_c.cov_raw_m2.push_back(Eigen::Vector3f(9e-4f, 4e-4f, 1e-6f).asDiagonal());
   kf.cloud_c.cov_m2.push_back(Eigen::Vector3f(2.25f, 1.0f, 1e-3f).asDiagonal());
   kf.cloud_c.colors_rgb.push_back({255, 0, 51});
-  const KeyframeGaussians g = to_keyframe_gaussians(kf);
+  const KeyframeGaussians g = pipeline::to_keyframe_gaussians(kf);
   GaussianMap map;
   GaussianInserter ins(InsertSettings{0.02, 0.1, 1e-5});
   ASSERT_EQ(ins.insert(map, g), 1u);

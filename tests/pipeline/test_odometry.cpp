@@ -7,7 +7,7 @@
 #include <cstring>
 #include <optional>
 
-#include "eval/mcap_frames.hpp"
+#include "io/recording/recorded_frames.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/odometry.hpp"
 #include "tests/pipeline/sim_sequence.hpp"
@@ -93,7 +93,7 @@ TEST_F(SimulatedOffice, LostFramesAreImuPropagatedAndTrackingResumes) {
   std::optional<Odometry> odometry;
   ImuFeeder feeder(motion_.imu);
   std::vector<TrackedFrame> frames;
-  eval::for_each_recorded_frame(path_, [&](const eval::RecordedFrame& rec) {
+  io::for_each_recorded_frame(path_, [&](const io::RecordedFrame& rec) {
     const std::int64_t t_ns = rec.view.t_ns;
     if (!odometry) {
       InitialPoseSource used;

@@ -8,9 +8,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "eval/results_dir.hpp"
 #include "io/tum_trajectory.hpp"
 #include "pipeline/lockstep_replay.hpp"
+#include "pipeline/results_dir.hpp"
 #include "tests/pipeline/sim_sequence.hpp"
 
 namespace vigs::pipeline {
@@ -58,23 +58,24 @@ TEST_F(ReplayCli, WritesAResultsDirThatEvalReads) {
             0)
       << read_text(dir_.file("replay.err"));
 
-  const auto poses = io::read_tum_trajectory(out + "/" + eval::kTrajectoryFile);
+  const auto poses = io::read_tum_trajectory(out + "/" + pipeline::kTrajectoryFile);
   ASSERT_EQ(poses.size(), 61u);  // 3 s at 20 Hz, both ends
   EXPECT_DOUBLE_EQ(poses.front().t_s, 0.0);
   EXPECT_NEAR(poses.back().t_s, 3.0, 1e-9);
 
-  const eval::RunStats stats = eval::read_run_stats(out + "/" + eval::kStatsFile);
+  const pipeline::RunStats stats = pipeline::read_run_stats(out + "/" + pipeline::kStatsFile);
   ASSERT_TRUE(stats.frames && stats.wall_s && stats.fps && stats.peak_rss_bytes);
   EXPECT_EQ(*stats.frames, 61.0);
   EXPECT_GT(*stats.wall_s, 0.0);
   EXPECT_NEAR(*stats.fps, *stats.frames / *stats.wall_s, 1e-6 * *stats.fps);
   EXPECT_GT(*stats.peak_rss_bytes, 1e6);
-  const std::string stats_text = read_text(out + "/" + eval::kStatsFile);
+  const std::string stats_text = read_text(out + "/" + pipeline::kStatsFile);
   EXPECT_NE(stats_text.find("\"tracked\": 60"), std::string::npos) << stats_text;
   EXPECT_NE(stats_text.find("\"lost\": 0"), std::string::npos) << stats_text;
   EXPECT_NE(stats_text.find("\"guess\": \"imu\""), std::string::npos) << stats_text;
 
-  const std::vector<double> kf = eval::read_keyframe_times(out + "/" + eval::kKeyframesFile);
+  const std::vector<double> kf =
+      pipeline::read_keyframe_times(out + "/" + pipeline::kKeyframesFile);
   ASSERT_FALSE(kf.empty());
   EXPECT_DOUBLE_EQ(kf.front(), 0.0);  // the first frame starts the map
   for (const double t : kf) {
@@ -101,8 +102,8 @@ TEST_F(ReplayCli, FramesOptionLimitsTheReplay) {
                      "frames")),
             0)
       << read_text(dir_.file("frames.err"));
-  EXPECT_EQ(io::read_tum_trajectory(out + "/" + eval::kTrajectoryFile).size(), 10u);
-  EXPECT_EQ(*eval::read_run_stats(out + "/" + eval::kStatsFile).frames, 10.0);
+  EXPECT_EQ(io::read_tum_trajectory(out + "/" + pipeline::kTrajectoryFile).size(), 10u);
+  EXPECT_EQ(*pipeline::read_run_stats(out + "/" + pipeline::kStatsFile).frames, 10.0);
 }
 
 TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
@@ -112,11 +113,11 @@ TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
                      "map")),
             0)
       << read_text(dir_.file("map.err"));
-  ASSERT_TRUE(std::filesystem::exists(out + "/" + eval::kMapFile));
-  const eval::RunStats stats = eval::read_run_stats(out + "/" + eval::kStatsFile);
+  ASSERT_TRUE(std::filesystem::exists(out + "/" + pipeline::kMapFile));
+  const pipeline::RunStats stats = pipeline::read_run_stats(out + "/" + pipeline::kStatsFile);
   ASSERT_TRUE(stats.gaussians.has_value());
   EXPECT_GT(*stats.gaussians, 1000.0);
-  EXPECT_NE(read_text(out + "/" + eval::kStatsFile).find("\"map_iterations\": 122"),
+  EXPECT_NE(read_text(out + "/" + pipeline::kStatsFile).find("\"map_iterations\": 122"),
             std::string::npos);  // 2 after each of the 61 frames
 
   ASSERT_EQ(run(vigs("eval run " + out + " --gt " + path_ + " --no-plots", "map_eval")), 0)
@@ -159,7 +160,7 @@ TEST_F(ReplayCli, DamagedRecordingsAreRefusedNamingTheFile) {
     EXPECT_EQ(run(vigs("replay " + bad + " --out " + out + " --quiet", "bad")), 1);
     const std::string err = read_text(dir_.file("bad.err"));
     EXPECT_NE(err.find(bad), std::string::npos) << err;
-    EXPECT_FALSE(std::filesystem::exists(out + "/" + eval::kTrajectoryFile));
+    EXPECT_FALSE(std::filesystem::exists(out + "/" + pipeline::kTrajectoryFile));
   }
 }
 

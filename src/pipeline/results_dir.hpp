@@ -1,5 +1,6 @@
 #pragma once
-// The RESULTS_DIR contract: what a pipeline run leaves behind for `vigs eval run`.
+// The RESULTS_DIR contract: what a pipeline run leaves behind for `vigs eval run`. Here, with
+// the producer (results_writer.hpp), so the pipeline does not link the evaluation, which reads it.
 //
 //   trajectory.tum  required. Estimated camera poses T_w_c, one TUM line per frame
 //                   (`t tx ty tz qx qy qz qw`, seconds and metres, Hamilton quaternion).
@@ -20,7 +21,7 @@
 #include <string>
 #include <vector>
 
-namespace vigs::eval {
+namespace vigs::pipeline {
 
 inline constexpr const char* kTrajectoryFile = "trajectory.tum";
 inline constexpr const char* kMapFile = "map.ply";
@@ -54,4 +55,4 @@ std::vector<double> read_keyframe_times(const std::string& path);
 /// Formats keyframe timestamps as keyframes.txt text (shortest round-trip numbers).
 std::string format_keyframe_times(const std::vector<double>& t_s);
 
-}  // namespace vigs::eval
+}  // namespace vigs::pipeline

@@ -13,12 +13,9 @@
 
 #include "core/types/pinhole_camera.hpp"
 #include "core/types/rgbd_view.hpp"
+#include "io/recording_topics.hpp"
 
-namespace vigs::eval {
-
-inline constexpr const char* kRgbTopic = "/vigs/rgb";
-inline constexpr const char* kCameraInfoTopic = "/vigs/camera_info";
-inline constexpr const char* kDepthTopic = "/vigs/depth";
+namespace vigs::io {
 
 /// Largest |t_depth - t_colour| still paired. Registered depth and colour of one capture carry
 /// the same stamp (the simulator, uHumans, the RGB-D driver's pool frames); 1 ms also pairs
@@ -44,11 +41,11 @@ struct McapFrameStats {
 /// opened, and
 /// std::runtime_error naming the file and byte offset on undecodable messages, an unsupported
 /// encoding or an image whose size differs from its CameraInfo.
-McapFrameStats for_each_recorded_frame(const std::string& path,
-                                       const std::function<void(const RecordedFrame&)>& fn,
-                                       const std::string& rgb_topic = kRgbTopic,
-                                       const std::string& info_topic = kCameraInfoTopic,
-                                       const std::string& depth_topic = kDepthTopic,
-                                       std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
+McapFrameStats for_each_recorded_frame(
+    const std::string& path, const std::function<void(const RecordedFrame&)>& fn,
+    const std::string& rgb_topic = std::string(io::topics::kRgb.name),
+    const std::string& info_topic = std::string(io::topics::kCameraInfo.name),
+    const std::string& depth_topic = std::string(io::topics::kDepth.name),
+    std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
 
-}  // namespace vigs::eval
+}  // namespace vigs::io

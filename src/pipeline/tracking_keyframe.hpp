@@ -2,15 +2,16 @@
 // Adapter from the tracker's keyframe (tracking/gaussian_cloud.hpp, a plain data header) to the
 // mapper's insertion input. The RAW kNN covariances are used, as GS-ICP SLAM does: scales from
 // the square roots of their eigenvalues (then divided by max(1, 2 z^1.5) at insertion), rotation
-// from their eigenvectors. Header-only, so vigs_mapping does not link the tracking library.
+// from their eigenvectors. In the pipeline, which joins the two, so that neither mapping nor
+// tracking knows the other.
 #include "mapping/keyframe_gaussians.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
-namespace vigs::mapping {
+namespace vigs::pipeline {
 
 /// Copies (allocates): call on the mapper side, not on the tracker thread.
-inline KeyframeGaussians to_keyframe_gaussians(const tracking::Keyframe& kf) {
-  KeyframeGaussians out;
+inline mapping::KeyframeGaussians to_keyframe_gaussians(const tracking::Keyframe& kf) {
+  mapping::KeyframeGaussians out;
   out.T_w_c = kf.T_w_c;
   const tracking::GaussianCloud& c = kf.cloud_c;
   out.points_c = c.points_m;
@@ -21,4 +22,4 @@ inline KeyframeGaussians to_keyframe_gaussians(const tracking::Keyframe& kf) {
   return out;
 }
 
-}  // namespace vigs::mapping
+}  // namespace vigs::pipeline

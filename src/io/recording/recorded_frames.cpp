@@ -1,4 +1,4 @@
-#include "eval/mcap_frames.hpp"
+#include "io/recording/recorded_frames.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -14,7 +14,7 @@
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/typed_io.hpp"
 
-namespace vigs::eval {
+namespace vigs::io {
 namespace {
 
 /// The reader's reusable pixel buffers: after the first frame no per-frame allocation.
@@ -166,4 +166,4 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
   return st;
 }
 
-}  // namespace vigs::eval
+}  // namespace vigs::io

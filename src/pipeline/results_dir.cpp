@@ -1,4 +1,4 @@
-#include "eval/results_dir.hpp"
+#include "pipeline/results_dir.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +10,7 @@
 
 #include "io/json_text.hpp"
 
-namespace vigs::eval {
+namespace vigs::pipeline {
 namespace {
 
 std::string read_text(const std::string& path) {
@@ -130,4 +130,4 @@ std::string format_keyframe_times(const std::vector<double>& t_s) {
   return out;
 }
 
-}  // namespace vigs::eval
+}  // namespace vigs::pipeline

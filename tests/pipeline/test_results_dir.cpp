@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "eval/results_dir.hpp"
+#include "pipeline/results_dir.hpp"
 
-namespace vigs::eval {
+namespace vigs::pipeline {
 namespace {
 
 TEST(RunStats, ReadsKnownNumbersAndIgnoresOtherKeys) {
@@ -63,4 +63,4 @@ TEST(Keyframes, RoundTripAndLineErrors) {
 }
 
 }  // namespace
-}  // namespace vigs::eval
+}  // namespace vigs::pipeline

@@ -1,0 +1,55 @@
+#pragma once
+// Every topic of a VIGS recording, declared once: name, ROS 2 message type, units and the
+// frame id written in its header. The simulator writes these (sim/mcap_sink.cpp), the frame
+// reader (io/recording/recorded_frames.hpp), the replay (pipeline/recorded_motion.hpp) and the
+// evaluation (eval/mcap_trajectory.hpp) read them. Stamps: header stamp = MCAP log time, int64
+// nanoseconds on the recording's clock.
+#include <array>
+#include <string_view>
+
+#include "io/ros_msgs/camera_info.hpp"
+#include "io/ros_msgs/image.hpp"
+#include "io/ros_msgs/imu.hpp"
+#include "io/ros_msgs/pose_stamped.hpp"
+
+namespace vigs::io {
+
+struct RecordedTopic {
+  std::string_view name;       ///< MCAP channel topic
+  std::string_view ros2_type;  ///< schema name, e.g. "sensor_msgs/msg/Image"
+  std::string_view unit;       ///< what the numbers mean
+  std::string_view frame_id;   ///< header.frame_id the simulator writes
+};
+
+namespace topics {
+
+inline constexpr RecordedTopic kCameraInfo{
+    "/vigs/camera_info", "sensor_msgs/msg/CameraInfo",
+    "pixels (K: fx, fy, cx, cy; no distortion), one before every colour image", "camera"};
+inline constexpr RecordedTopic kRgb{"/vigs/rgb", "sensor_msgs/msg/Image",
+                                    "rgb8 or mono8 (8-bit intensity)", "camera"};
+inline constexpr RecordedTopic kDepth{
+    "/vigs/depth", "sensor_msgs/msg/Image",
+    "16UC1 millimetres or 32FC1 metres, 0 = no measurement; registered to the colour image",
+    "camera"};
+inline constexpr RecordedTopic kImu{"/vigs/imu", "sensor_msgs/msg/Imu",
+                                    "angular velocity rad/s, specific force m/s^2, body frame",
+                                    "body"};
+inline constexpr RecordedTopic kBodyPose{"/vigs/ground_truth/body_pose",
+                                         "geometry_msgs/msg/PoseStamped",
+                                         "T_w_b: position m, unit quaternion", "world"};
+
+inline constexpr std::array<RecordedTopic, 5> kAll{kCameraInfo, kRgb, kDepth, kImu, kBodyPose};
+
+}  // namespace topics
+
+// The declared types are the codecs' types.
+static_assert(topics::kCameraInfo.ros2_type ==
+              ros_msgs::MessageTraits<ros_msgs::CameraInfo>::kRos2Name);
+static_assert(topics::kRgb.ros2_type == ros_msgs::MessageTraits<ros_msgs::Image>::kRos2Name);
+static_assert(topics::kDepth.ros2_type == ros_msgs::MessageTraits<ros_msgs::Image>::kRos2Name);
+static_assert(topics::kImu.ros2_type == ros_msgs::MessageTraits<ros_msgs::Imu>::kRos2Name);
+static_assert(topics::kBodyPose.ros2_type ==
+              ros_msgs::MessageTraits<ros_msgs::PoseStamped>::kRos2Name);
+
+}  // namespace vigs::io
