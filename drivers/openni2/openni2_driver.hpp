@@ -47,10 +47,10 @@
 #include <string>
 
 #include "drivers/common/device_state_machine.hpp"
+#include "drivers/common/frame_pairer.hpp"
+#include "drivers/common/rgbd_driver_counters.hpp"
 #include "drivers/openni2/device_clock.hpp"
-#include "drivers/openni2/frame_pairer.hpp"
 #include "drivers/openni2/pinned_stack_thread.hpp"
-#include "drivers/openni2/rgbd_driver_counters.hpp"
 #include "rt/counters.hpp"
 #include "rt/frame_pool.hpp"
 #include "rt/spsc_ring.hpp"

@@ -10,6 +10,8 @@ namespace vigs::config {
 struct CameraSettings {
   std::string driver = "replay";  ///< openni2 | v4l2 | replay
   std::string device;             ///< OpenNI2 URI or .oni path, /dev/videoN; empty = first found
+  std::string colour_device;      ///< v4l2: the colour node (device is the Z16 depth node)
+  std::string colour_format = "YUYV";  ///< v4l2 colour node's fourcc: YUYV | MJPG | GREY
   int width_px = 720;
   int height_px = 480;
   double fx_px = 415.69219381653056;
@@ -24,6 +26,10 @@ struct CameraSettings {
   void visit(Visitor& v) {
     v.field("driver", driver, {"openni2", "v4l2", "replay"}, "RGB-D source");
     v.field("device", device, {}, "OpenNI2 URI or .oni file, or V4L2 device; empty = first found");
+    v.field("colour_device", colour_device, {},
+            "v4l2: colour capture node (device is then the Z16 depth node)");
+    v.field("colour_format", colour_format, {"YUYV", "MJPG", "GREY"},
+            "v4l2: colour node pixel format");
     v.field("width_px", width_px, {"px", 16, 8192, "image width"});
     v.field("height_px", height_px, {"px", 16, 8192, "image height"});
     v.field("fx_px", fx_px, {"px", 1.0, 1e5, "focal length x"});
@@ -38,6 +44,12 @@ struct CameraSettings {
     v.require(cx_px < width_px && cy_px < height_px, "cx_px",
               "principal point must lie inside the image");
     v.require(min_depth_m < max_depth_m, "max_depth_m", "max_depth_m must exceed min_depth_m");
+    v.require(driver != "v4l2" || device.starts_with("/dev/"), "device",
+              "v4l2: device must be the depth node's path under /dev/");
+    v.require(driver != "v4l2" || colour_device.starts_with("/dev/"), "colour_device",
+              "v4l2: colour_device must be the colour node's path under /dev/");
+    v.require(driver != "v4l2" || colour_device != device, "colour_device",
+              "v4l2: the colour and depth nodes must differ");
   }
 };
 

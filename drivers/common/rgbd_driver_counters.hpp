@@ -1,4 +1,5 @@
-// Counters of the OpenNI2 RGB-D driver thread, as one snapshot (Openni2Driver::counters()).
+// Counters of an RGB-D driver thread, as one snapshot (Openni2Driver::counters(),
+// V4l2RgbdDriver::counters().rgbd).
 //
 // Bookkeeping that always holds once the driver has stopped (and at any quiet moment):
 //   frames_read == delivered + dropped_ring_full + dropped_pool_empty
