@@ -62,11 +62,12 @@ void V4l2Capture::open() {
     const std::string asked = std::to_string(settings_.width_px) + "x" +
                               std::to_string(settings_.height_px) + " " + fourcc_text(want);
     close();
-    throw V4l2Error("V4L2 device '" + settings_.device + "': offers " + got + " but the camera is configured as " + asked);
+    throw V4l2Error("V4L2 device '" + settings_.device + "': offers " + got +
+                    " but the camera is configured as " + asked);
   }
   const std::uint32_t bpp = raw_bytes_per_pixel(settings_.format);
-  bytes_per_line_ = fmt.fmt.pix.bytesperline != 0 ? fmt.fmt.pix.bytesperline
-                                                  : settings_.width_px * bpp;
+  bytes_per_line_ =
+      fmt.fmt.pix.bytesperline != 0 ? fmt.fmt.pix.bytesperline : settings_.width_px * bpp;
   if (bpp != 0 && bytes_per_line_ < settings_.width_px * bpp) {
     close();
     throw V4l2Error("V4L2 device '" + settings_.device + "': bytesperline " +
@@ -87,8 +88,8 @@ void V4l2Capture::open() {
   if (ops_.ioctl(fd_, VIDIOC_REQBUFS, &req) < 0) fail("VIDIOC_REQBUFS", errno);
   if (req.count < 2) {
     close();
-    throw V4l2Error("V4L2 device '" + settings_.device + "': granted " +
-                    std::to_string(req.count) + " buffers, need at least 2");
+    throw V4l2Error("V4L2 device '" + settings_.device + "': granted " + std::to_string(req.count) +
+                    " buffers, need at least 2");
   }
   maps_.clear();
   for (std::uint32_t i = 0; i < req.count; ++i) {

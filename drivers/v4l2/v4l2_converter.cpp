@@ -65,16 +65,15 @@ V4l2Converter::~V4l2Converter() {
 
 bool V4l2Converter::to_rgb8(std::span<const std::uint8_t> bytes,
                             std::span<std::uint8_t> rgb) noexcept {
-  const v4l2_format src =
-      capture_format(fourcc(src_), width_px_, height_px_, bytes_per_line_,
-                     static_cast<std::uint32_t>(bytes.size()));
-  const v4l2_format dst = capture_format(V4L2_PIX_FMT_RGB24, width_px_, height_px_,
-                                         width_px_ * 3, width_px_ * height_px_ * 3);
+  const v4l2_format src = capture_format(fourcc(src_), width_px_, height_px_, bytes_per_line_,
+                                         static_cast<std::uint32_t>(bytes.size()));
+  const v4l2_format dst = capture_format(V4L2_PIX_FMT_RGB24, width_px_, height_px_, width_px_ * 3,
+                                         width_px_ * height_px_ * 3);
   if (rgb.size() < std::size_t{width_px_} * height_px_ * 3) return false;
   // libv4lconvert takes a non-const source pointer but does not write to it.
-  const int n = v4lconvert_convert(data_, &src, &dst, const_cast<std::uint8_t*>(bytes.data()),
-                                   static_cast<int>(bytes.size()), rgb.data(),
-                                   static_cast<int>(rgb.size()));
+  const int n =
+      v4lconvert_convert(data_, &src, &dst, const_cast<std::uint8_t*>(bytes.data()),
+                         static_cast<int>(bytes.size()), rgb.data(), static_cast<int>(rgb.size()));
   return n == static_cast<int>(std::size_t{width_px_} * height_px_ * 3);
 }
 

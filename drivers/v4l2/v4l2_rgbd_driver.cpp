@@ -126,6 +126,7 @@ void V4l2RgbdDriver::start() {
         &convert_errors_, &kernel_dropped_, &corrupt_, &eagain_, &host_stamped_}) {
     c->reset();
   }
+  tap_.reset();
   for (V4l2Capture& n : nodes_) n.reset_counters();
   machine_.reset(rt::monotonic_ns());
   if (!settings_.wait_for_device) {
@@ -157,8 +158,8 @@ void V4l2RgbdDriver::run(const std::stop_token& stop) noexcept {
     switch (machine_.state()) {
       case DeviceState::kOpening:
         if (!machine_.due_to_open(now_ns)) {
-          rt::sleep_until_ns(std::min(machine_.deadline_ns(),
-                                      now_ns + rt::ms_to_ns(settings_.wait_timeout_ms)));
+          rt::sleep_until_ns(
+              std::min(machine_.deadline_ns(), now_ns + rt::ms_to_ns(settings_.wait_timeout_ms)));
           break;
         }
         try {
@@ -281,6 +282,10 @@ void V4l2RgbdDriver::on_buffer(int s, const V4l2Buffer& b) noexcept {
 void V4l2RgbdDriver::emit_pair() noexcept {
   const V4l2Buffer& d = *pending_[kDepth];
   const V4l2Buffer& c = *pending_[kColour];
+  std::int64_t t_ns = d.t_ns;  // the depth buffer's kernel stamp, or its sync edge's
+  if (trigger_ != nullptr) {
+    if (const auto edge = trigger_->match(t_ns)) t_ns = *edge;
+  }
   rt::FrameHandle handle = pool_.acquire();
   if (!handle.valid()) {
     frames_read_.add();
@@ -294,12 +299,14 @@ void V4l2RgbdDriver::emit_pair() noexcept {
     if (stride == depth_row) {
       std::memcpy(dst, d.data, depth_row * h);
     } else {
-      for (std::size_t y = 0; y < h; ++y) std::memcpy(dst + y * depth_row, d.data + y * stride, depth_row);
+      for (std::size_t y = 0; y < h; ++y)
+        std::memcpy(dst + y * depth_row, d.data + y * stride, depth_row);
     }
     bool ok = true;
     if (pool_.settings().colour_channels == 1) {  // GREY into a mono pool: a copy
       const std::size_t cs = nodes_[kColour].bytes_per_line();
-      for (std::size_t y = 0; y < h; ++y) std::memcpy(frame.colour.data() + y * w, c.data + y * cs, w);
+      for (std::size_t y = 0; y < h; ++y)
+        std::memcpy(frame.colour.data() + y * w, c.data + y * cs, w);
     } else {
       ok = nodes_[kColour].converter()->to_rgb8({c.data, c.bytes_used}, frame.colour);
     }
@@ -307,10 +314,11 @@ void V4l2RgbdDriver::emit_pair() noexcept {
       convert_errors_.add();  // a corrupt MJPEG frame, for instance: not a frame of the stream
       pool_.release(handle);
     } else {
-      frame.t_ns = std::max(d.t_ns, last_t_ns_ + 1);  // the depth buffer's kernel stamp
+      frame.t_ns = std::max(t_ns, last_t_ns_ + 1);
       last_t_ns_ = frame.t_ns;
       frame.sequence = frames_read_.get();
       frames_read_.add();
+      tap_.offer(pool_, handle);
       if (rt::push_or_drop(out_, handle, dropped_ring_full_,
                            [this](rt::FrameHandle& hd) noexcept { pool_.release(hd); })) {
         delivered_.add();
@@ -355,6 +363,7 @@ V4l2RgbdCounters V4l2RgbdDriver::counters() const noexcept {
   c.error_resets = m.error_resets;
   c.device_gone = m.device_gone;
   c.reopens = reopens_.get();
+  c.tap_dropped = tap_.dropped();
   v.convert_errors = convert_errors_.get();
   v.kernel_dropped = kernel_dropped_.get();
   v.corrupt_buffers = corrupt_.get();

@@ -35,7 +35,9 @@
 
 #include "drivers/common/device_state_machine.hpp"
 #include "drivers/common/frame_pairer.hpp"
+#include "drivers/common/frame_tap.hpp"
 #include "drivers/common/rgbd_driver_counters.hpp"
+#include "drivers/common/trigger_matcher.hpp"
 #include "drivers/v4l2/v4l2_capture.hpp"
 #include "drivers/v4l2/v4l2_device_ops.hpp"
 #include "rt/counters.hpp"
@@ -51,7 +53,7 @@ struct RtSettings;
 namespace vigs::drivers {
 
 struct V4l2RgbdDriverSettings {
-  std::string depth_device;  ///< Z16 node
+  std::string depth_device;   ///< Z16 node
   std::string colour_device;  ///< YUYV / MJPEG / GREY node
   V4l2PixelFormat colour_format = V4l2PixelFormat::kYuyv;
   std::uint32_t width_px = 640;  ///< both nodes deliver this size (depth registered to colour)
@@ -77,8 +79,8 @@ struct V4l2RgbdDriverSettings {
 
 /// V4L2-specific counters beside the common RGB-D ones, summed over both nodes.
 struct V4l2RgbdCounters {
-  RgbdDriverCounters rgbd;           // same meaning as Openni2Driver's (clock_reanchors: 0)
-  std::uint64_t kernel_dropped = 0;  // gaps in the kernel's sequence numbers
+  RgbdDriverCounters rgbd;            // same meaning as Openni2Driver's (clock_reanchors: 0)
+  std::uint64_t kernel_dropped = 0;   // gaps in the kernel's sequence numbers
   std::uint64_t corrupt_buffers = 0;  // V4L2_BUF_FLAG_ERROR
   std::uint64_t eagain = 0;           // woken, nothing to dequeue
   std::uint64_t convert_errors = 0;   // colour buffers libv4lconvert refused (pair dropped)
@@ -95,6 +97,12 @@ class V4l2RgbdDriver {
   V4l2RgbdDriver(const V4l2RgbdDriver&) = delete;
   V4l2RgbdDriver& operator=(const V4l2RgbdDriver&) = delete;
 
+  /// Frame sync: each pair's stamp becomes its GPIO edge's (TriggerMatcher; set before start(),
+  /// used on the driver thread only). Pairs are matched in the order they are formed, also those
+  /// then dropped, so the edges stay in step.
+  void set_trigger(TriggerMatcher* matcher) noexcept { trigger_ = matcher; }
+  /// The recorder's tap (drivers/common/frame_tap.hpp); set before start().
+  void set_tap(rt::SpscRing<rt::FrameHandle>* tap) noexcept { tap_.set(tap); }
   void start();
   void stop();
   [[nodiscard]] bool running() const noexcept { return thread_.has_value(); }
@@ -130,6 +138,8 @@ class V4l2RgbdDriver {
   FramePairer pairer_;
   DeviceStateMachine machine_;
   std::optional<V4l2Buffer> pending_[2];
+  TriggerMatcher* trigger_ = nullptr;
+  FrameTap tap_;
   std::int64_t last_t_ns_ = 0;
   std::atomic<DeviceState> state_{DeviceState::kOpening};
   std::atomic<bool> end_of_stream_{false};

@@ -44,10 +44,10 @@ bool FakeV4l2Device::push_frame(const std::string& path, const FakeFrame& f) {
       b.bytes_used = static_cast<std::uint32_t>(len);
       b.sequence = seq;
       b.t_ns = f.t_ns;
-      b.flags = V4L2_BUF_FLAG_MAPPED | V4L2_BUF_FLAG_DONE |
-                (f.monotonic_flag ? V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC
-                                  : V4L2_BUF_FLAG_TIMESTAMP_UNKNOWN) |
-                (f.error_flag ? V4L2_BUF_FLAG_ERROR : 0u);
+      b.flags =
+          V4L2_BUF_FLAG_MAPPED | V4L2_BUF_FLAG_DONE |
+          (f.monotonic_flag ? V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC : V4L2_BUF_FLAG_TIMESTAMP_UNKNOWN) |
+          (f.error_flag ? V4L2_BUF_FLAG_ERROR : 0u);
       b.state = BufState::kDone;
       n.done.push_back(i);
       delivered = true;
@@ -127,7 +127,8 @@ int FakeV4l2Device::close(int fd) {
   bool stale = false;
   Node* n = node_of(fd, &stale);
   if (n == nullptr) return fail(EBADF);
-  if (!stale && --n->open_count == 0) {  // last close: the kernel stops streaming and frees the buffers
+  if (!stale &&
+      --n->open_count == 0) {  // last close: the kernel stops streaming and frees the buffers
     n->streaming = false;
     n->buffers.clear();
     n->queued.clear();

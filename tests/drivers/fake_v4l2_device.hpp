@@ -36,9 +36,9 @@ struct FakeNodeSpec {
 
 struct FakeFrame {
   std::span<const std::uint8_t> bytes;
-  std::int64_t t_ns = 0;       // kernel timestamp (CLOCK_MONOTONIC)
-  bool monotonic_flag = true;  // V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC, else TIMESTAMP_UNKNOWN
-  bool error_flag = false;     // V4L2_BUF_FLAG_ERROR
+  std::int64_t t_ns = 0;            // kernel timestamp (CLOCK_MONOTONIC)
+  bool monotonic_flag = true;       // V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC, else TIMESTAMP_UNKNOWN
+  bool error_flag = false;          // V4L2_BUF_FLAG_ERROR
   std::uint32_t skip_sequence = 0;  // sequence numbers the "kernel" skips before this frame
 };
 

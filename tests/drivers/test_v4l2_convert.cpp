@@ -75,8 +75,8 @@ std::vector<std::uint8_t> to_jpeg(const io::ImageU8& rgb, int quality) {
   jpeg_set_quality(&cinfo, quality, TRUE);
   jpeg_start_compress(&cinfo, TRUE);
   while (cinfo.next_scanline < cinfo.image_height) {
-    auto* row = const_cast<JSAMPLE*>(&rgb.data[static_cast<std::size_t>(cinfo.next_scanline) *
-                                               rgb.width * 3]);
+    auto* row = const_cast<JSAMPLE*>(
+        &rgb.data[static_cast<std::size_t>(cinfo.next_scanline) * rgb.width * 3]);
     jpeg_write_scanlines(&cinfo, &row, 1);
   }
   jpeg_finish_compress(&cinfo);
@@ -97,13 +97,13 @@ double psnr_db(const io::ImageU8& ref, std::span<const std::uint8_t> test) {
 
 // A capture node for libv4lconvert to inspect (its own ENUM_FMT / QUERYCAP ioctls go to the fake).
 int open_node(FakeV4l2Device& fake, std::uint32_t fourcc_code, int w, int h) {
-  fake.add_node("/dev/video7", {.pixelformat = fourcc_code,
-                                .width = static_cast<std::uint32_t>(w),
-                                .height = static_cast<std::uint32_t>(h),
-                                .bytes_per_line = fourcc_code == V4L2_PIX_FMT_YUYV
-                                                      ? static_cast<std::uint32_t>(2 * w)
-                                                      : 0u,
-                                .size_image = static_cast<std::uint32_t>(w * h * 2)});
+  fake.add_node(
+      "/dev/video7",
+      {.pixelformat = fourcc_code,
+       .width = static_cast<std::uint32_t>(w),
+       .height = static_cast<std::uint32_t>(h),
+       .bytes_per_line = fourcc_code == V4L2_PIX_FMT_YUYV ? static_cast<std::uint32_t>(2 * w) : 0u,
+       .size_image = static_cast<std::uint32_t>(w * h * 2)});
   return fake.open("/dev/video7");
 }
 

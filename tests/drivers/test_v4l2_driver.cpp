@@ -104,9 +104,8 @@ class V4l2Driver : public ::testing::Test {
     ASSERT_TRUE(fake.push_frame(kColourNode, {.bytes = c, .t_ns = t + offset_ns}));
   }
   void wait_requeued(std::size_t buffers = 4) {
-    ASSERT_TRUE(wait_until([&] {
-      return fake.queued(kDepthNode) >= buffers && fake.queued(kColourNode) >= buffers;
-    }));
+    ASSERT_TRUE(wait_until(
+        [&] { return fake.queued(kDepthNode) >= buffers && fake.queued(kColourNode) >= buffers; }));
   }
   // Pops everything queued; checks pixels against depth pattern f = depth[0] decoded.
   struct Got {
@@ -190,7 +189,8 @@ TEST_F(V4l2Driver, EagainCorruptBuffersAndSequenceGapsAreCountedAndSkipped) {
   // A corrupt depth buffer (V4L2_BUF_FLAG_ERROR): requeued at once, its colour stays unpaired.
   const auto d1 = depth_bytes(1);
   const auto c1 = grey_bytes(1);
-  ASSERT_TRUE(fake.push_frame(kDepthNode, {.bytes = d1, .t_ns = kT0 + kPeriodNs, .error_flag = true}));
+  ASSERT_TRUE(
+      fake.push_frame(kDepthNode, {.bytes = d1, .t_ns = kT0 + kPeriodNs, .error_flag = true}));
   ASSERT_TRUE(fake.push_frame(kColourNode, {.bytes = c1, .t_ns = kT0 + kPeriodNs}));
   wait_requeued(3);
   // The kernel lost frames 2..4 of the depth node (no buffer was queued): the gap is counted.

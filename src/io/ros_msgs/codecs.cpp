@@ -6,6 +6,7 @@
 #include "io/ros_msgs/odometry.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
 #include "io/ros_msgs/serial_chunk.hpp"
+#include "io/ros_msgs/time_reference.hpp"
 
 namespace vigs::io::ros_msgs {
 namespace {
@@ -109,6 +110,15 @@ struct VisitSerialChunk {
   }
 };
 
+struct VisitTimeReference {
+  template <class Ar, class M>
+  void operator()(Ar& ar, M& m) const {
+    detail::visit_header(ar, m.header);
+    ar("time_ref", m.time_ref);
+    ar("source", m.source);
+  }
+};
+
 }  // namespace
 
 Time Time::from_ns(std::int64_t t_ns) {
@@ -142,6 +152,7 @@ VIGS_ROS_MSG_CODEC(CameraInfo, VisitCameraInfo)
 VIGS_ROS_MSG_CODEC(PoseStamped, VisitPoseStamped)
 VIGS_ROS_MSG_CODEC(Odometry, VisitOdometry)
 VIGS_ROS_MSG_CODEC(SerialChunk, VisitSerialChunk)
+VIGS_ROS_MSG_CODEC(TimeReference, VisitTimeReference)
 
 #undef VIGS_ROS_MSG_CODEC
 
