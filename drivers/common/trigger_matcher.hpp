@@ -42,7 +42,7 @@ struct TriggerMatchCounters {
 
 /// From the robot config: camera.trigger_tolerance_ms, camera.trigger_offset_ms.
 [[nodiscard]] inline TriggerMatchSettings trigger_match_settings(double tolerance_ms,
-                                                               double offset_ms) noexcept {
+                                                                 double offset_ms) noexcept {
   return {.tolerance_ns = static_cast<std::int64_t>(tolerance_ms * 1e6),
           .offset_ns = static_cast<std::int64_t>(offset_ms * 1e6)};
 }

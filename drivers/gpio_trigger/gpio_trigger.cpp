@@ -40,7 +40,8 @@ void GpioTrigger::start() {
   const std::string what =
       "GPIO line " + std::to_string(settings_.line) + " of '" + settings_.chip + "'";
   chip_ = gpiod_chip_open_lookup(settings_.chip.c_str());
-  if (chip_ == nullptr) throw GpioTriggerError(what + ": cannot open the chip: " + std::strerror(errno));
+  if (chip_ == nullptr)
+    throw GpioTriggerError(what + ": cannot open the chip: " + std::strerror(errno));
   line_ = gpiod_chip_get_line(chip_, settings_.line);
   if (line_ == nullptr) {
     const int e = errno;
@@ -103,7 +104,7 @@ void GpioTrigger::run(const std::stop_token& stop) noexcept {
   while (!stop.stop_requested()) {
     pollfd p{fd_, POLLIN | POLLPRI, 0};
     const int n = ::poll(&p, 1, settings_.wait_timeout_ms);
-    if (n <= 0) continue;  // timeout (no edge) or EINTR
+    if (n <= 0) continue;                         // timeout (no edge) or EINTR
     if ((p.revents & (POLLIN | POLLPRI)) == 0) {  // POLLHUP / POLLERR without data: gone
       source_closed_.store(true, std::memory_order_release);
       return;

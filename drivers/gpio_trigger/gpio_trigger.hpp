@@ -45,8 +45,8 @@ class GpioTriggerError : public std::runtime_error {
 };
 
 struct GpioTriggerSettings {
-  std::string chip;      ///< gpiod_chip_open_lookup name; empty with open_event_fd
-  unsigned line = 0;     ///< line offset on the chip
+  std::string chip;   ///< gpiod_chip_open_lookup name; empty with open_event_fd
+  unsigned line = 0;  ///< line offset on the chip
   int wait_timeout_ms = 20;
   bool realtime_thread = true;
   bool pin_cpu = true;
@@ -58,9 +58,9 @@ struct GpioTriggerSettings {
                                                         const config::RtSettings& rt);
 
 struct GpioTriggerCounters {
-  std::uint64_t rising = 0;         // rising edges read
-  std::uint64_t falling = 0;        // falling edges read (ignored)
-  std::uint64_t pushed = 0;         // edges queued to the driver's ring
+  std::uint64_t rising = 0;   // rising edges read
+  std::uint64_t falling = 0;  // falling edges read (ignored)
+  std::uint64_t pushed = 0;   // edges queued to the driver's ring
   std::uint64_t dropped_ring_full = 0;
   std::uint64_t tap_dropped = 0;    // the recorder tap was full
   std::uint64_t read_errors = 0;    // failed or short event reads

@@ -57,8 +57,7 @@ int run_record(const RecordOptions& o) {
   // Rings and pool: 1 slot being filled + main ring + tap + 1 held by each consumer.
   const auto w = static_cast<std::uint32_t>(cfg.camera.width_px);
   const auto h = static_cast<std::uint32_t>(cfg.camera.height_px);
-  const std::uint32_t channels =
-      camera_v4l2 && cfg.camera.colour_format == "GREY" ? 1u : 3u;
+  const std::uint32_t channels = camera_v4l2 && cfg.camera.colour_format == "GREY" ? 1u : 3u;
   std::optional<rt::FramePool> pool;
   rt::SpscRing<rt::FrameHandle> main_ring(kMainRing), frame_tap(kFrameTap);
   rt::SpscRing<ImuSample> imu_ring(1024), imu_tap(4096);
@@ -101,8 +100,8 @@ int run_record(const RecordOptions& o) {
     if (matcher) v4l2->set_trigger(matcher.get());
   }
   if (imu_serial) {
-    imu = std::make_unique<drivers::SerialImuDriver>(
-        drivers::serial_imu_settings(cfg.imu, cfg.rt), imu_ring);
+    imu = std::make_unique<drivers::SerialImuDriver>(drivers::serial_imu_settings(cfg.imu, cfg.rt),
+                                                     imu_ring);
     imu->set_taps(&imu_tap, &bytes_tap);
     recorder.add_imu(imu_tap);
     recorder.add_serial(bytes_tap, cfg.imu.port);
@@ -116,10 +115,24 @@ int run_record(const RecordOptions& o) {
   ::sigaction(SIGTERM, &sa, nullptr);
 
   recorder.start();  // the file exists before any driver runs
-  if (trigger) trigger->start();
-  if (openni2) openni2->start();
-  if (v4l2) v4l2->start();
-  if (imu) imu->start();
+  try {
+    if (trigger) trigger->start();
+    if (openni2) openni2->start();
+    if (v4l2) v4l2->start();
+    if (imu) imu->start();
+  } catch (...) {
+    // A device that cannot be opened: nothing was recorded, so leave no file behind.
+    if (imu) imu->stop();
+    if (openni2) openni2->stop();
+    if (v4l2) v4l2->stop();
+    if (trigger) trigger->stop();
+    try {
+      recorder.stop();
+    } catch (...) {
+    }
+    (void)std::remove(o.out.c_str());
+    throw;
+  }
 
   const bool tty = ::isatty(STDERR_FILENO) == 1;
   const std::int64_t t0 = rt::monotonic_ns();
@@ -168,15 +181,14 @@ int run_record(const RecordOptions& o) {
 
   const record::RecorderStats s = recorder.stats();
   std::ostringstream j;
-  j << "{\"file\": " << json_string(o.out) << ", \"seconds\": "
-    << json_number(rt::ns_to_s(rt::monotonic_ns() - t0)) << ", \"frames\": " << s.frames
-    << ", \"imu_samples\": " << s.imu_samples << ", \"serial_chunks\": " << s.serial_chunks
-    << ", \"serial_bytes\": " << s.serial_bytes << ", \"edges\": " << s.edges
-    << ", \"chunks\": " << s.chunks << ", \"bytes\": " << s.bytes_written
-    << ", \"tap_drops\": " << total_drops;
+  j << "{\"file\": " << json_string(o.out)
+    << ", \"seconds\": " << json_number(rt::ns_to_s(rt::monotonic_ns() - t0))
+    << ", \"frames\": " << s.frames << ", \"imu_samples\": " << s.imu_samples
+    << ", \"serial_chunks\": " << s.serial_chunks << ", \"serial_bytes\": " << s.serial_bytes
+    << ", \"edges\": " << s.edges << ", \"chunks\": " << s.chunks
+    << ", \"bytes\": " << s.bytes_written << ", \"tap_drops\": " << total_drops;
   if (openni2) {
-    j << ", \"camera_fault\": "
-      << json_string(std::string(drivers::to_string(openni2->fault())));
+    j << ", \"camera_fault\": " << json_string(std::string(drivers::to_string(openni2->fault())));
   }
   j << ", \"signal\": " << g_stop_signal.load() << "}\n";
   std::cout << j.str();

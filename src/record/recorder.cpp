@@ -69,11 +69,21 @@ void Recorder::start() {
     c.info_msg.height = p.height;
     c.info_msg.distortion_model = "plumb_bob";
     c.info_msg.d.assign(5, 0.0);
-    c.info_msg.k = {intrinsics_.fx_px, 0, intrinsics_.cx_px, 0, intrinsics_.fy_px,
-                    intrinsics_.cy_px, 0, 0, 1};
+    c.info_msg.k = {
+        intrinsics_.fx_px, 0, intrinsics_.cx_px, 0, intrinsics_.fy_px, intrinsics_.cy_px, 0, 0, 1};
     c.info_msg.r = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    c.info_msg.p = {intrinsics_.fx_px, 0, intrinsics_.cx_px, 0, 0, intrinsics_.fy_px,
-                    intrinsics_.cy_px, 0, 0, 0, 1, 0};
+    c.info_msg.p = {intrinsics_.fx_px,
+                    0,
+                    intrinsics_.cx_px,
+                    0,
+                    0,
+                    intrinsics_.fy_px,
+                    intrinsics_.cy_px,
+                    0,
+                    0,
+                    0,
+                    1,
+                    0};
     for (msgs::Image* m : {&c.rgb_msg, &c.depth_msg}) {
       m->header.frame_id = "camera";
       m->width = p.width;

@@ -46,7 +46,7 @@ struct CameraIntrinsics {
 };
 
 struct RecorderStats {
-  std::uint64_t frames = 0;         // RGB-D pairs written
+  std::uint64_t frames = 0;  // RGB-D pairs written
   std::uint64_t imu_samples = 0;
   std::uint64_t serial_chunks = 0;
   std::uint64_t serial_bytes = 0;
@@ -104,8 +104,8 @@ class Recorder {
   std::atomic<bool> failed_{false};
   mutable std::mutex error_mutex_;  // error_ only; never taken by a driver
   std::string error_;
-  std::atomic<std::uint64_t> frames_n_{0}, imu_n_{0}, chunks_n_{0}, serial_bytes_n_{0},
-      edges_n_{0}, bytes_written_{0}, mcap_chunks_{0};
+  std::atomic<std::uint64_t> frames_n_{0}, imu_n_{0}, chunks_n_{0}, serial_bytes_n_{0}, edges_n_{0},
+      bytes_written_{0}, mcap_chunks_{0};
 };
 
 }  // namespace vigs::record

@@ -75,7 +75,7 @@ TEST(GpioTrigger, DecodesKernelEventRecordsThroughLibgpiod) {
   const std::int64_t t0 = 7'000'000'123;
   for (int i = 0; i < 5; ++i) p.edge(t0 + i * 33 * kMs);
   p.edge(t0 + 200 * kMs, GPIOEVENT_EVENT_FALLING_EDGE);  // counted, ignored
-  p.edge(t0 + 10 * kMs);                                  // before the last edge: dropped
+  p.edge(t0 + 10 * kMs);                                 // before the last edge: dropped
   ASSERT_TRUE(wait_until([&] { return trigger.counters().non_monotonic == 1; }));
   GpioTriggerCounters c = trigger.counters();
   EXPECT_EQ(c.rising, 5u);
@@ -123,8 +123,7 @@ TEST(GpioTrigger, AMissingChipIsAnErrorNamingIt) {
     trigger.start();
     FAIL() << "start() opened a missing chip";
   } catch (const GpioTriggerError& e) {
-    EXPECT_NE(std::string(e.what()).find("line 7 of '/dev/gpiochip-not-there'"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("line 7 of '/dev/gpiochip-not-there'"), std::string::npos)
         << e.what();
   }
   EXPECT_FALSE(trigger.running());

@@ -68,10 +68,9 @@ std::string write_csv(int rows) {
 
 // Starts `vigs imu play`; returns the process and its pty.
 std::pair<FILE*, std::string> start_imu_play(const std::string& csv, double delay_s) {
-  FILE* play = ::popen((std::string(VIGS_BIN) + " imu play " + csv + " --delay " +
-                        std::to_string(delay_s))
-                           .c_str(),
-                       "r");
+  FILE* play = ::popen(
+      (std::string(VIGS_BIN) + " imu play " + csv + " --delay " + std::to_string(delay_s)).c_str(),
+      "r");
   if (play == nullptr) return {nullptr, ""};
   char first[512] = {};
   if (std::fgets(first, sizeof first, play) == nullptr) return {play, ""};
@@ -101,8 +100,8 @@ TEST(RecordCli, RecordsTheOniAndPtySourcesIntoAnMcapTheOfficialReaderOpens) {
   ASSERT_FALSE(pty.empty());
   const std::string robot = write_robot(clip, pty);
   const std::string out = temp_path("rec.mcap");
-  const auto [summary, status] = run(std::string(VIGS_BIN) + " record --config " + robot +
-                                     " --out " + out + " --seconds 6");
+  const auto [summary, status] =
+      run(std::string(VIGS_BIN) + " record --config " + robot + " --out " + out + " --seconds 6");
   char buf[4096];
   while (std::fgets(buf, sizeof buf, play) != nullptr) {
   }
@@ -125,8 +124,8 @@ TEST(RecordCli, RecordsTheOniAndPtySourcesIntoAnMcapTheOfficialReaderOpens) {
 
   // The official TypeScript readers (indexed + stream, CRCs validated, ROS 2 decoders).
   if (std::system("command -v node >/dev/null 2>&1") != 0) GTEST_SKIP() << "node not installed";
-  const auto [ts, ts_status] = run("node " + std::string(VIGS_SOURCE_DIR) +
-                                   "/tests/conformance/summarize_mcap.mjs " + out);
+  const auto [ts, ts_status] =
+      run("node " + std::string(VIGS_SOURCE_DIR) + "/tests/conformance/summarize_mcap.mjs " + out);
   ASSERT_EQ(ts_status, 0) << ts;
   const std::regex rgb(
       R"("/vigs/rgb":\{"schema":"sensor_msgs/msg/Image","messages":(\d+),"first_log_time":"\d+","first":\{"width":64,"height":48,"encoding":"rgb8","bytes":9216,"data0":(\d+),"data1":(\d+)\})");
@@ -170,7 +169,9 @@ TEST(RecordCli, SigkillLeavesAFileReadableToItsLastChunk) {
   // ... but every chunk before the kill is there: chunks close each second of log time.
   std::smatch m;
   ASSERT_TRUE(std::regex_search(
-      info, m, std::regex(R"("topic": "/vigs/imu", "schema": "sensor_msgs/msg/Imu", "message_encoding": "cdr", "messages": (\d+))")))
+      info, m,
+      std::regex(
+          R"("topic": "/vigs/imu", "schema": "sensor_msgs/msg/Imu", "message_encoding": "cdr", "messages": (\d+))")))
       << info;
   EXPECT_GE(std::stoi(m[1]), 200) << info;
   EXPECT_NE(info.find("\"decode_errors\": 0"), std::string::npos) << info;
@@ -181,6 +182,16 @@ TEST(RecordCli, TopicsAreTheOnesReplayReads) {
   EXPECT_STREQ(record::kDepthTopic, eval::kDepthTopic);
   EXPECT_STREQ(record::kCameraInfoTopic, eval::kCameraInfoTopic);
   EXPECT_STREQ(record::kImuTopic, pipeline::kImuTopic);
+}
+
+TEST(RecordCli, TheRealsenseRobotFailsNamingItsMissingDeviceAndLeavesNoFile) {
+  const std::string out = temp_path("rs.mcap");
+  const auto [text, status] =
+      run(std::string(VIGS_BIN) + " record --config " + std::string(VIGS_SOURCE_DIR) +
+          "/firmware_config/robots/realsense_v4l2_gpio.yaml --out " + out + " --seconds 1");
+  EXPECT_EQ(status, 1) << text;
+  EXPECT_NE(text.find("GPIO line 17 of 'gpiochip0'"), std::string::npos) << text;
+  EXPECT_NE(::access(out.c_str(), F_OK), 0) << "a failed start leaves no recording";
 }
 
 TEST(RecordCli, NothingToRecordIsAnErrorNamingTheConfig) {
