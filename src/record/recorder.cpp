@@ -55,6 +55,13 @@ void Recorder::add_edges(rt::SpscRing<drivers::TriggerEdge>& tap, std::string so
 }
 
 void Recorder::start() {
+  if (task_) return;
+  open();
+  task_.emplace(rt::thread_spec("recorder"), [this] { drain_once(); });
+  task_->start();
+}
+
+void Recorder::open() {
   if (writer_) return;
   writer_ = std::make_unique<io::mcap::McapWriter>(path_, options_);
   ch_ = std::make_unique<Channels>();
@@ -109,8 +116,6 @@ void Recorder::start() {
     c.edge_msg.source = edge_source_;
   }
   writer_->flush();  // the channel records reach the file before the first message
-  task_.emplace(rt::thread_spec("recorder"), [this] { drain_once(); });
-  task_->start();
 }
 
 void Recorder::write_frame(rt::FrameHandle h) {

@@ -72,6 +72,8 @@ class Recorder {
 
   /// Opens the file (throws io::IoError naming it) and starts the recorder thread.
   void start();
+  /// Opens the file without a thread: the caller drains (benchmarks, lockstep use).
+  void open();
   /// Stops the thread, drains every tap, writes the summary and closes the file. Throws
   /// io::IoError if the file could not be completed. Idempotent.
   void stop();
