@@ -45,8 +45,7 @@ const Content& content() {
     for (std::uint32_t y = 0; y < kH; ++y) {
       for (std::uint32_t x = 0; x < kW; ++x) {
         for (int ch = 0; ch < 3; ++ch) {
-          k.rgb[(y * kW + x) * 3 + ch] =
-              full.at(static_cast<int>(x), static_cast<int>(y), ch);
+          k.rgb[(y * kW + x) * 3 + ch] = full.at(static_cast<int>(x), static_cast<int>(y), ch);
         }
       }
     }
