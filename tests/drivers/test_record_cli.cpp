@@ -13,7 +13,12 @@
 #include <vector>
 
 #include "eval/mcap_frames.hpp"
+#include "io/mcap/mcap_reader.hpp"
 #include "io/oni/oni_clip_writer.hpp"
+#include "io/ros_msgs/imu.hpp"
+#include "io/ros_msgs/serial_chunk.hpp"
+#include "io/ros_msgs/time_reference.hpp"
+#include "io/ros_msgs/typed_io.hpp"
 #include "pipeline/recorded_motion.hpp"
 #include "record/recorder.hpp"
 
@@ -175,6 +180,63 @@ TEST(RecordCli, SigkillLeavesAFileReadableToItsLastChunk) {
       << info;
   EXPECT_GE(std::stoi(m[1]), 200) << info;
   EXPECT_NE(info.find("\"decode_errors\": 0"), std::string::npos) << info;
+}
+
+TEST(Recorder, WritesEdgesSerialBytesAndImuAsTheirMessages) {
+  const std::string out = temp_path("unit.mcap");
+  rt::SpscRing<drivers::TriggerEdge> edges(8);
+  rt::SpscRing<drivers::SerialBytes> bytes(8);
+  rt::SpscRing<ImuSample> imu(8);
+  record::Recorder rec(out);
+  rec.add_edges(edges, "gpiochip0:17");
+  rec.add_serial(bytes, "/dev/ttyUSB0");
+  rec.add_imu(imu);
+  rec.open();
+  ASSERT_TRUE(edges.try_push({1'000'000'123, 0}));
+  ASSERT_TRUE(edges.try_push({1'033'333'456, 1}));
+  const std::uint8_t raw[5] = {0xFA, 0xFF, 0x36, 0x00, 0x42};
+  ASSERT_TRUE(bytes.try_emplace(1'010'000'000, raw, sizeof raw));
+  ImuSample s;
+  s.t_ns = 1'020'000'000;
+  s.accel_mps2[2] = 9.81;
+  s.gyro_rps[0] = 0.25;
+  ASSERT_TRUE(imu.try_push(s));
+  rec.drain_once();
+  rec.stop();
+  EXPECT_EQ(rec.stats().edges, 2u);
+  EXPECT_EQ(rec.stats().serial_bytes, 5u);
+
+  io::mcap::McapReader r(out);
+  io::mcap::MessageView m;
+  std::vector<io::ros_msgs::TimeReference> refs;
+  int imu_msgs = 0, chunks = 0;
+  while (r.next(m)) {
+    io::ros_msgs::TimeReference ref;
+    io::ros_msgs::SerialChunk chunk;
+    io::ros_msgs::Imu i;
+    if (io::ros_msgs::decode_message(m, ref)) {
+      EXPECT_EQ(m.channel->topic, record::kTriggerTopic);
+      EXPECT_EQ(static_cast<std::int64_t>(m.log_time_ns), ref.time_ref.to_ns());
+      refs.push_back(ref);
+    } else if (io::ros_msgs::decode_message(m, chunk)) {
+      EXPECT_EQ(chunk.port, "/dev/ttyUSB0");
+      EXPECT_EQ(chunk.data, std::vector<std::uint8_t>(raw, raw + 5));
+      EXPECT_EQ(chunk.stamp.to_ns(), 1'010'000'000);
+      ++chunks;
+    } else if (io::ros_msgs::decode_message(m, i)) {
+      EXPECT_EQ(i.linear_acceleration.z, 9.81);
+      EXPECT_EQ(i.angular_velocity.x, 0.25);
+      EXPECT_EQ(i.header.stamp.to_ns(), 1'020'000'000);
+      ++imu_msgs;
+    }
+  }
+  EXPECT_TRUE(r.issues().empty());
+  ASSERT_EQ(refs.size(), 2u);
+  EXPECT_EQ(refs[0].time_ref.to_ns(), 1'000'000'123);
+  EXPECT_EQ(refs[1].header.stamp.to_ns(), 1'033'333'456);
+  EXPECT_EQ(refs[1].source, "gpiochip0:17");
+  EXPECT_EQ(chunks, 1);
+  EXPECT_EQ(imu_msgs, 1);
 }
 
 TEST(RecordCli, TopicsAreTheOnesReplayReads) {

@@ -8,8 +8,8 @@
 #include <linux/videodev2.h>
 
 #include <atomic>
-#include <cstdio>
 #include <chrono>
+#include <cstdio>
 #include <thread>
 #include <vector>
 
@@ -75,10 +75,9 @@ TEST(V4l2Driver, StreamingLoopDoesNotAllocateAfterTheFirstFrames) {
   constexpr int kFrames = 40;
   for (int f = 0; f < kFrames; ++f) {
     const std::int64_t t = 1'000'000'000 + f * 33'333'333LL;
-    ASSERT_TRUE(fake.push_frame("/dev/d", {.bytes = depth,
-                                           .t_ns = t,
-                                           .error_flag = f == 20,
-                                           .skip_sequence = f == 30 ? 2u : 0u}));
+    ASSERT_TRUE(fake.push_frame(
+        "/dev/d",
+        {.bytes = depth, .t_ns = t, .error_flag = f == 20, .skip_sequence = f == 30 ? 2u : 0u}));
     ASSERT_TRUE(fake.push_frame("/dev/c", {.bytes = yuyv, .t_ns = t}));
     if (f == 10) fake.spurious_wakeups("/dev/c", 2);
     wait_requeued(f == 20 ? 3 : 4);  // colour 20 waits for a partner: its depth was corrupt
@@ -101,9 +100,9 @@ TEST(V4l2Driver, StreamingLoopDoesNotAllocateAfterTheFirstFrames) {
   for (void* who : g_callers) {
     Dl_info info{};
     if (who != nullptr && ::dladdr(who, &info) != 0) {
-      std::fprintf(stderr, "caller %s +0x%lx\n", info.dli_fname,
-                   static_cast<unsigned long>(static_cast<char*>(who) -
-                                              static_cast<char*>(info.dli_fbase)));
+      std::fprintf(
+          stderr, "caller %s +0x%lx\n", info.dli_fname,
+          static_cast<unsigned long>(static_cast<char*>(who) - static_cast<char*>(info.dli_fbase)));
     }
   }
   rt::FrameHandle hd;
