@@ -44,7 +44,7 @@ struct DeviceStateSettings {
   std::uint32_t max_consecutive_errors = 10;      ///< read errors in a row that force a reset
   std::int64_t backoff_initial_ns = 100'000'000;  ///< first wait before reopening
   std::int64_t backoff_max_ns = 2'000'000'000;    ///< the backoff doubles up to this
-  bool reopen = true;                  ///< false: the first loss or failed open is final
+  bool reopen = true;                             ///< false: the first loss or failed open is final
   std::uint32_t max_open_attempts = 0;  ///< consecutive failed opens before kFailed; 0 = no limit
 };
 

@@ -249,6 +249,7 @@ void Openni2Driver::start() {
         &clock_reanchors_, &reopens_}) {
     c->reset();
   }
+  tap_.reset();
   end_of_stream_.store(false, std::memory_order_relaxed);
 
   rt::ThreadSpec spec = rt::thread_spec("rgbd_driver");
@@ -459,10 +460,15 @@ void Openni2Driver::emit_pair() noexcept {
   const std::uint64_t sequence = frames_read_.get();
   frames_read_.add();
   // Stamp every pair (also the dropped ones) so the clock map sees the device time advance.
-  const std::int64_t t_ns =
+  std::int64_t t_ns =
       clock_.to_host_ns(static_cast<std::int64_t>(d.pending[kDepth].getTimestamp()),
                         std::max(d.pending_read_ns[kDepth], d.pending_read_ns[kColour]));
   clock_reanchors_.add(clock_.reanchors() - clock_reanchors_.get());
+  if (trigger_ != nullptr) {
+    if (const auto edge = trigger_->match(t_ns)) t_ns = *edge;
+    t_ns = std::max(t_ns, last_synced_t_ns_ + 1);  // mixed edge / device stamps stay ordered
+    last_synced_t_ns_ = t_ns;
+  }
 
   rt::FrameHandle handle = pool_.acquire();
   if (!handle.valid()) {
@@ -475,6 +481,7 @@ void Openni2Driver::emit_pair() noexcept {
               settings_.height_px);
     frame.t_ns = t_ns;
     frame.sequence = sequence;
+    tap_.offer(pool_, handle);
     if (rt::push_or_drop(out_, handle, dropped_ring_full_,
                          [this](rt::FrameHandle& h) noexcept { pool_.release(h); })) {
       delivered_.add();
@@ -525,6 +532,7 @@ RgbdDriverCounters Openni2Driver::counters() const noexcept {
   c.error_resets = m.error_resets;
   c.device_gone = m.device_gone;
   c.reopens = reopens_.get();
+  c.tap_dropped = tap_.dropped();
   return c;
 }
 

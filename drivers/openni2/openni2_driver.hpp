@@ -47,10 +47,12 @@
 #include <string>
 
 #include "drivers/common/device_state_machine.hpp"
+#include "drivers/common/frame_pairer.hpp"
+#include "drivers/common/frame_tap.hpp"
+#include "drivers/common/rgbd_driver_counters.hpp"
+#include "drivers/common/trigger_matcher.hpp"
 #include "drivers/openni2/device_clock.hpp"
-#include "drivers/openni2/frame_pairer.hpp"
 #include "drivers/openni2/pinned_stack_thread.hpp"
-#include "drivers/openni2/rgbd_driver_counters.hpp"
 #include "rt/counters.hpp"
 #include "rt/frame_pool.hpp"
 #include "rt/spsc_ring.hpp"
@@ -110,6 +112,11 @@ class Openni2Driver {
   /// size (both sizes named) or pixel format differs from the settings. Nothing is left open
   /// after a throw.
   void start();
+  /// Frame sync: each pair's stamp becomes its GPIO edge's (TriggerMatcher; set before start(),
+  /// used on the driver thread only).
+  void set_trigger(TriggerMatcher* matcher) noexcept { trigger_ = matcher; }
+  /// The recorder's tap (drivers/common/frame_tap.hpp); set before start().
+  void set_tap(rt::SpscRing<rt::FrameHandle>* tap) noexcept { tap_.set(tap); }
   /// Stops and joins the read thread, then closes the streams and the device. Idempotent.
   void stop();
   [[nodiscard]] bool running() const noexcept { return thread_.has_value(); }
@@ -160,6 +167,9 @@ class Openni2Driver {
   std::unique_ptr<Device> device_;
   FramePairer pairer_;
   DeviceClock clock_;
+  TriggerMatcher* trigger_ = nullptr;
+  FrameTap tap_;
+  std::int64_t last_synced_t_ns_ = 0;
   std::string what_;  // "ONI file 'x'" / "OpenNI2 device 'x'", for messages
   DeviceStateMachine machine_;
   std::atomic<DeviceState> state_{DeviceState::kOpening};

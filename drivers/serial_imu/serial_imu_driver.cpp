@@ -29,6 +29,7 @@ SerialImuDriverSettings serial_imu_settings(const config::ImuSettings& imu,
 
 void SerialImuDriver::RingOutput::on_stamped(const ImuSample& sample) noexcept {
   (void)rt::push_or_drop(ring_, sample, drops);
+  if (tap != nullptr) (void)rt::push_or_drop(*tap, sample, tap_drops);
 }
 
 SerialImuDriver::SerialImuDriver(const SerialImuDriverSettings& settings,
@@ -109,6 +110,7 @@ void SerialImuDriver::run(const std::stop_token& stop) noexcept {
         got_data = true;
         hung_up = false;
         bytes_read_.add(static_cast<std::uint64_t>(n));
+        if (bytes_tap_ != nullptr) tap_bytes(host_ns, static_cast<std::size_t>(n));
         stamper_.begin_read(host_ns);
         parser_->feed(read_buf_.data(), static_cast<std::size_t>(n), stamper_);
         stamper_.end_read();
@@ -143,6 +145,13 @@ void SerialImuDriver::run(const std::stop_token& stop) noexcept {
   stamper_.release();
 }
 
+void SerialImuDriver::tap_bytes(std::int64_t t_ns, std::size_t n) noexcept {
+  for (std::size_t off = 0; off < n; off += SerialBytes::kCapacity) {
+    // Built in place in the ring's slot: no 512-byte copy through the stack.
+    if (!bytes_tap_->try_emplace(t_ns, read_buf_.data() + off, n - off)) tap_byte_drops_.add();
+  }
+}
+
 SerialImuFaults SerialImuDriver::faults() const noexcept {
   SerialImuFaults f;
   f.fill(parser_->counters());
@@ -153,6 +162,8 @@ SerialImuFaults SerialImuDriver::faults() const noexcept {
   f.hangups = hangups_.get();
   f.truncated_at_hangup = truncated_at_hangup_.get();
   f.reopens = reopens_.get();
+  f.tap_sample_drops = output_.tap_drops.get();
+  f.tap_byte_drops = tap_byte_drops_.get();
   return f;
 }
 

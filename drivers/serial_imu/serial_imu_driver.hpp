@@ -24,6 +24,7 @@
 #include "core/types/imu_sample.hpp"
 #include "drivers/serial_imu/imu_protocol_parser.hpp"
 #include "drivers/serial_imu/imu_stamper.hpp"
+#include "drivers/serial_imu/serial_bytes.hpp"
 #include "drivers/serial_imu/serial_imu_faults.hpp"
 #include "drivers/serial_imu/serial_port.hpp"
 #include "rt/counters.hpp"
@@ -61,6 +62,13 @@ class SerialImuDriver {
   SerialImuDriver(const SerialImuDriver&) = delete;
   SerialImuDriver& operator=(const SerialImuDriver&) = delete;
 
+  /// Recorder taps (set before start(); either may be null): every stamped sample, and every
+  /// read's raw bytes. A full tap drops the newest item and counts it (tap_sample_drops,
+  /// tap_byte_drops); the driver never waits for the recorder.
+  void set_taps(rt::SpscRing<ImuSample>* samples, rt::SpscRing<SerialBytes>* bytes) noexcept {
+    output_.tap = samples;
+    bytes_tap_ = bytes;
+  }
   /// Opens the port (throws std::system_error naming it) and starts the read thread.
   void start();
   /// Stops and joins the read thread, then closes the port. Idempotent.
@@ -78,12 +86,15 @@ class SerialImuDriver {
     explicit RingOutput(rt::SpscRing<ImuSample>& ring) : ring_(ring) {}
     void on_stamped(const ImuSample& sample) noexcept override;
     rt::SingleWriterCounter drops;
+    rt::SpscRing<ImuSample>* tap = nullptr;
+    rt::SingleWriterCounter tap_drops;
 
    private:
     rt::SpscRing<ImuSample>& ring_;
   };
 
   void run(const std::stop_token& stop) noexcept;
+  void tap_bytes(std::int64_t t_ns, std::size_t n) noexcept;
 
   SerialImuDriverSettings settings_;
   RingOutput output_;
@@ -96,6 +107,8 @@ class SerialImuDriver {
   rt::SingleWriterCounter hangups_;
   rt::SingleWriterCounter truncated_at_hangup_;
   rt::SingleWriterCounter reopens_;
+  rt::SpscRing<SerialBytes>* bytes_tap_ = nullptr;
+  rt::SingleWriterCounter tap_byte_drops_;
   std::optional<rt::RtThread> thread_;
 };
 

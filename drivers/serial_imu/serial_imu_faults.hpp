@@ -35,6 +35,8 @@ struct SerialImuFaults {
   std::uint64_t hangups = 0;              ///< port hung up (device unplugged, pty master closed)
   std::uint64_t truncated_at_hangup = 0;  ///< a message was cut off by a hang-up
   std::uint64_t reopens = 0;              ///< port reopened after a hang-up
+  std::uint64_t tap_sample_drops = 0;     ///< recorder's sample tap full: sample not recorded
+  std::uint64_t tap_byte_drops = 0;       ///< recorder's byte tap full: a read not recorded
 
   [[nodiscard]] io::Json to_json_value() const;  ///< {"bytes_read": N, ...}
   [[nodiscard]] std::string to_json() const;     ///< to_json_value() on one line

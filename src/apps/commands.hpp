@@ -12,6 +12,7 @@ struct ExitCode {
 void add_config_command(CLI::App& app, ExitCode& exit_code);
 void add_imu_command(CLI::App& app, ExitCode& exit_code);
 void add_rgbd_command(CLI::App& app, ExitCode& exit_code);
+void add_record_command(CLI::App& app, ExitCode& exit_code);
 /// `vigs eval imu`: registered under the shared `eval` group (apps/eval_group.hpp).
 void add_eval_imu_command(CLI::App& app, ExitCode& exit_code);
 void add_align_command(CLI::App& app, ExitCode& exit_code);

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   vigs::apps::add_config_command(app, exit_code);
   vigs::apps::add_imu_command(app, exit_code);
   vigs::apps::add_rgbd_command(app, exit_code);
+  vigs::apps::add_record_command(app, exit_code);
   vigs::apps::add_eval_imu_command(app, exit_code);
   vigs::apps::add_align_command(app, exit_code);
   vigs::apps::add_mcap_command(app, exit_code);

@@ -11,6 +11,8 @@
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
+#include "io/ros_msgs/serial_chunk.hpp"
+#include "io/ros_msgs/time_reference.hpp"
 
 namespace vigs::io {
 
@@ -39,7 +41,18 @@ inline constexpr RecordedTopic kBodyPose{"/vigs/ground_truth/body_pose",
                                          "geometry_msgs/msg/PoseStamped",
                                          "T_w_b: position m, unit quaternion", "world"};
 
-inline constexpr std::array<RecordedTopic, 5> kAll{kCameraInfo, kRgb, kDepth, kImu, kBodyPose};
+/// Written by `vigs record` (src/record): the serial port's raw bytes, so that a replay can drive
+/// the real serial driver with them, and the GPIO frame-sync edges.
+inline constexpr RecordedTopic kImuSerial{"/vigs/imu/serial", "vigs_msgs/msg/SerialChunk",
+                                          "the IMU port's bytes exactly as read, stamp = read time",
+                                          ""};
+inline constexpr RecordedTopic kCameraTrigger{
+    "/vigs/camera/trigger", "sensor_msgs/msg/TimeReference",
+    "time_ref = the frame-sync edge's kernel stamp (CLOCK_MONOTONIC), source = chip:line",
+    "camera"};
+
+inline constexpr std::array<RecordedTopic, 7> kAll{kCameraInfo, kRgb,       kDepth,        kImu,
+                                                   kBodyPose,   kImuSerial, kCameraTrigger};
 
 }  // namespace topics
 
@@ -51,5 +64,9 @@ static_assert(topics::kDepth.ros2_type == ros_msgs::MessageTraits<ros_msgs::Imag
 static_assert(topics::kImu.ros2_type == ros_msgs::MessageTraits<ros_msgs::Imu>::kRos2Name);
 static_assert(topics::kBodyPose.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::PoseStamped>::kRos2Name);
+static_assert(topics::kImuSerial.ros2_type ==
+              ros_msgs::MessageTraits<ros_msgs::SerialChunk>::kRos2Name);
+static_assert(topics::kCameraTrigger.ros2_type ==
+              ros_msgs::MessageTraits<ros_msgs::TimeReference>::kRos2Name);
 
 }  // namespace vigs::io

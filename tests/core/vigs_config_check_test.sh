@@ -36,4 +36,15 @@ expect_failure "$work/range.yaml" "$work/range.yaml:2:12: key 'camera.rate_hz'" 
 printf 'imu:\n  protocol: vectornav_vn100\n' >"$work/protocol.yaml"
 expect_failure "$work/protocol.yaml" "$work/protocol.yaml:2:13: key 'imu.protocol'" \
   "unknown protocol 'vectornav_vn100' (known: xsens_mt)"
+# V4L2 camera: device paths under /dev/, a colour node, a known colour format, a GPIO chip name.
+printf 'camera:\n  driver: v4l2\n  device: /dev/video0\n' >"$work/v4l2.yaml"
+expect_failure "$work/v4l2.yaml" "key 'camera.colour_device'" "colour node's path under /dev/"
+printf 'camera:\n  driver: v4l2\n  device: video0\n  colour_device: /dev/video2\n' \
+  >"$work/v4l2_path.yaml"
+expect_failure "$work/v4l2_path.yaml" "key 'camera.device'" "path under /dev/"
+printf 'camera:\n  driver: v4l2\n  device: /dev/video0\n  colour_device: /dev/video2\n  colour_format: NV12\n' \
+  >"$work/v4l2_format.yaml"
+expect_failure "$work/v4l2_format.yaml" "$work/v4l2_format.yaml:5:18: key 'camera.colour_format'"
+printf 'camera:\n  trigger_chip: /sys/class/gpio\n' >"$work/gpio.yaml"
+expect_failure "$work/gpio.yaml" "key 'camera.trigger_chip'" "gpiochipN or /dev/gpiochipN"
 echo "vigs config check: all cases passed"

@@ -3,8 +3,8 @@
 // CLOCK_MONOTONIC nanoseconds.
 #include <gtest/gtest.h>
 
+#include "drivers/common/frame_pairer.hpp"
 #include "drivers/openni2/device_clock.hpp"
-#include "drivers/openni2/frame_pairer.hpp"
 
 namespace vigs::drivers {
 namespace {

@@ -6,6 +6,7 @@
 #include "io/ros_msgs/odometry.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
 #include "io/ros_msgs/serial_chunk.hpp"
+#include "io/ros_msgs/time_reference.hpp"
 #include "io/ros_msgs/visit_fields.hpp"
 
 namespace vigs::io::ros_msgs {
@@ -41,6 +42,7 @@ VIGS_ROS_MSG_CODEC(CameraInfo, VisitCameraInfo)
 VIGS_ROS_MSG_CODEC(PoseStamped, VisitPoseStamped)
 VIGS_ROS_MSG_CODEC(Odometry, VisitOdometry)
 VIGS_ROS_MSG_CODEC(SerialChunk, VisitSerialChunk)
+VIGS_ROS_MSG_CODEC(TimeReference, VisitTimeReference)
 
 #undef VIGS_ROS_MSG_CODEC
 

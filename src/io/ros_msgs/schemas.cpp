@@ -10,6 +10,7 @@
 #include "io/ros_msgs/odometry.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
 #include "io/ros_msgs/serial_chunk.hpp"
+#include "io/ros_msgs/time_reference.hpp"
 
 namespace vigs::io::ros_msgs {
 namespace {
@@ -140,6 +141,17 @@ std::string_view MessageTraits<SerialChunk>::ros2msg() {
 }
 std::string_view MessageTraits<SerialChunk>::ros1msg() {
   static const std::string s = "time stamp\nstring port\nuint8[] data\n";
+  return s;
+}
+
+std::string_view MessageTraits<TimeReference>::ros2msg() {
+  static const std::string s =
+      "std_msgs/Header header\nbuiltin_interfaces/Time time_ref\nstring source\n" + header2_deps();
+  return s;
+}
+std::string_view MessageTraits<TimeReference>::ros1msg() {
+  static const std::string s =
+      "Header header\ntime time_ref\nstring source\n" + dep("std_msgs/Header", kHeader1);
   return s;
 }
 

@@ -106,4 +106,13 @@ struct VisitSerialChunk {
   }
 };
 
+struct VisitTimeReference {
+  template <class Ar, class M>
+  void operator()(Ar& ar, M& m) const {
+    detail::visit_header(ar, m.header);
+    ar("time_ref", m.time_ref);
+    ar("source", m.source);
+  }
+};
+
 }  // namespace vigs::io::ros_msgs::detail

@@ -1,4 +1,4 @@
-#include "drivers/openni2/frame_pairer.hpp"
+#include "drivers/common/frame_pairer.hpp"
 
 namespace vigs::drivers {
 

@@ -1,4 +1,5 @@
-// Counters of the OpenNI2 RGB-D driver thread, as one snapshot (Openni2Driver::counters()).
+// Counters of an RGB-D driver thread, as one snapshot (Openni2Driver::counters(),
+// V4l2RgbdDriver::counters().rgbd).
 //
 // Bookkeeping that always holds once the driver has stopped (and at any quiet moment):
 //   frames_read == delivered + dropped_ring_full + dropped_pool_empty
@@ -30,6 +31,7 @@ struct RgbdDriverCounters {
   std::uint64_t error_resets = 0;    // max_consecutive_errors failures in a row forced a reset
   std::uint64_t device_gone = 0;     // the device vanished
   std::uint64_t reopens = 0;         // opens after a loss (opens - 1 once started)
+  std::uint64_t tap_dropped = 0;     // recorder tap full: a delivered or dropped pair not recorded
   bool end_of_stream = false;        // the stream has ended (clip end or final fault)
 };
 
