@@ -1,10 +1,12 @@
 // `vigs replay`: lockstep replay of an MCAP recording through the odometry (IMU-seeded GICP
 // tracking), written as a RESULTS_DIR for `vigs eval run`.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "apps/commands.hpp"
 #include "apps/json_text.hpp"
@@ -18,7 +20,7 @@ namespace vigs::apps {
 namespace {
 
 struct ReplayArgs {
-  std::string recording, out, config_file, guess;
+  std::string recording, out, config_file, guess, fusion, initial_pose = "gravity";
   std::int64_t frames = 0;
   int map_iterations = 0;
   bool quiet = false;
@@ -39,13 +41,29 @@ std::string stats_json(const pipeline::ReplayResult& r, const std::string& recor
   };
   add("recording", json_string(recording));
   add("guess", json_string(pipeline::to_string(r.guess)));
+  add("fusion", json_string(r.guess == tracking::InitialGuessMode::imu
+                                ? pipeline::to_string(r.fusion)
+                                : "none"));
   add("initial_pose", json_string(pipeline::to_string(r.initial_pose)));
   add("frames", json_number(frames));
   add("wall_s", json_number(r.wall_s));
   add("fps", json_number(r.wall_s > 0 ? frames / r.wall_s : NAN));
   add("track_ms_per_frame", json_number(frames > 0 ? 1e3 * r.track_s / frames : NAN));
   add("peak_rss_bytes", json_number(pipeline::peak_rss_bytes()));
+  std::vector<float> ms = r.track_ms;
+  const auto percentile = [&ms](double q) {
+    if (ms.empty()) return static_cast<double>(NAN);
+    const auto k = static_cast<std::size_t>(q * static_cast<double>(ms.size() - 1) + 0.5);
+    std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(k), ms.end());
+    return static_cast<double>(ms[k]);
+  };
+  add("track_ms_p50", json_number(percentile(0.5)));
+  add("track_ms_p99", json_number(percentile(0.99)));
   add("tracked", count(c.tracked));
+  add("not_converged", count(c.not_converged));
+  add("degenerate", count(c.degenerate));
+  add("moving_points", count(c.moving_points));
+  add("fused_updates", count(c.fused_updates));
   add("lost", count(c.lost));
   add("lost_low_inliers", count(c.lost_low_inliers));
   add("lost_diverged", count(c.lost_diverged));
@@ -84,6 +102,14 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                   "initial guess: imu (VIGS), constant_velocity, previous_pose (GS-ICP SLAM); "
                   "default tracking.initial_guess")
       ->check(CLI::IsMember({"imu", "constant_velocity", "previous_pose"}));
+  cmd->add_option("--fusion", a.fusion,
+                  "imu guess only: fused (IMU prior in GICP, 15-state filter) or paper (IMU guess, "
+                  "then reset from GICP); default tracking.fusion")
+      ->check(CLI::IsMember({"fused", "paper"}));
+  cmd->add_option("--initial-pose", a.initial_pose,
+                  "first pose: gravity (attitude from the accelerometer at rest, yaw 0, the "
+                  "default) or ground_truth (the recording's, for debugging)")
+      ->check(CLI::IsMember({"gravity", "ground_truth"}));
   cmd->add_option("--frames", a.frames, "replay only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--map-iterations", a.map_iterations,
@@ -98,7 +124,14 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                                 : config::load_config_file(a.config_file);
       pipeline::ReplayOptions opt;
       if (!a.guess.empty()) opt.guess = tracking::initial_guess_from_string(a.guess);
+      if (!a.fusion.empty()) {
+        pipeline::FusionMode m = pipeline::FusionMode::fused;
+        pipeline::parse_fusion_mode(a.fusion, m);
+        opt.fusion = m;
+      }
       opt.max_frames = a.frames;
+      opt.initial_pose = a.initial_pose == "ground_truth" ? pipeline::InitialPoseSource::ground_truth
+                                                          : pipeline::InitialPoseSource::gravity;
       opt.map_iterations_per_frame = a.map_iterations;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;

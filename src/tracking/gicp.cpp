@@ -26,6 +26,6 @@ Gicp::Gicp(const Setting& setting)
       partials_(static_cast<std::size_t>(team_.size())) {}
 
 template GicpResult Gicp::align<CloudTarget>(const CloudTarget&, const GaussianCloud&,
-                                             const geometry::Pose&);
+                                             const geometry::Pose&, const PosePrior*);
 
 }  // namespace vigs::tracking
