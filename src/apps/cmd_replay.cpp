@@ -41,9 +41,9 @@ std::string stats_json(const pipeline::ReplayResult& r, const std::string& recor
   };
   add("recording", json_string(recording));
   add("guess", json_string(pipeline::to_string(r.guess)));
-  add("fusion", json_string(r.guess == tracking::InitialGuessMode::imu
-                                ? pipeline::to_string(r.fusion)
-                                : "none"));
+  add("fusion",
+      json_string(r.guess == tracking::InitialGuessMode::imu ? pipeline::to_string(r.fusion)
+                                                             : "none"));
   add("initial_pose", json_string(pipeline::to_string(r.initial_pose)));
   add("frames", json_number(frames));
   add("wall_s", json_number(r.wall_s));
@@ -130,8 +130,9 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
         opt.fusion = m;
       }
       opt.max_frames = a.frames;
-      opt.initial_pose = a.initial_pose == "ground_truth" ? pipeline::InitialPoseSource::ground_truth
-                                                          : pipeline::InitialPoseSource::gravity;
+      opt.initial_pose = a.initial_pose == "ground_truth"
+                             ? pipeline::InitialPoseSource::ground_truth
+                             : pipeline::InitialPoseSource::gravity;
       opt.map_iterations_per_frame = a.map_iterations;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;

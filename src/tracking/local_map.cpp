@@ -251,8 +251,7 @@ bool LocalMap::nearest_any(const Eigen::Vector3f& q_w, float max_sq_dist,
   float best = max_sq_dist;
   bool found = false;
   // confirm_distance_m <= voxel_m is not required: scan as many voxels as the radius needs.
-  const auto reach = static_cast<std::int64_t>(
-      std::ceil(std::sqrt(max_sq_dist) * inv_voxel_));
+  const auto reach = static_cast<std::int64_t>(std::ceil(std::sqrt(max_sq_dist) * inv_voxel_));
   for (std::int64_t dx = -reach; dx <= reach; ++dx) {
     for (std::int64_t dy = -reach; dy <= reach; ++dy) {
       for (std::int64_t dz = -reach; dz <= reach; ++dz) {

@@ -9,9 +9,9 @@
 // allocate.
 //
 // Bound: at most max_voxels * points_per_voxel points. Memory is fixed at construction:
-// max_voxels * points_per_voxel * 53 B (point 12 B + covariance 36 B + stamp and flag 5 B) + max_voxels * 24 B
-// of voxel records + 2-4 * max_voxels * 4 B of hash table. Defaults (16384 voxels x 20
-// points): 327,680 points, about 16 MB.
+// max_voxels * points_per_voxel * 53 B (point 12 B + covariance 36 B + stamp and flag 5 B) +
+// max_voxels * 24 B of voxel records + 2-4 * max_voxels * 4 B of hash table. Defaults (16384 voxels
+// x 20 points): 327,680 points, about 16 MB.
 //
 // Policy: a keyframe's points go to the voxel they fall in; a full voxel keeps its points
 // (later ones are dropped) but is stamped as seen. Voxels farther than `radius_m` from the

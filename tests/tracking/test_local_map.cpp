@@ -150,7 +150,6 @@ TEST(LocalMap, LeastRecentlySeenVoxelsGoFirstWhenFull) {
   EXPECT_LE(old_left, 56);
 }
 
-
 /// A static wall (re-observed by every keyframe) and a "person": a 0.4 m block that moves
 /// 0.5 m between keyframes, as a walker between two keyframes.
 GaussianCloud wall_and_person(unsigned seed, float person_x, std::size_t& person_begin) {

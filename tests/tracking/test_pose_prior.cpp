@@ -20,8 +20,9 @@ TEST(PosePrior, JacobianMatchesCentralDifferences) {
   const Pose T_mean =
       geometry::make_pose(Eigen::Vector3d(0.3, -0.2, 0.5), Eigen::Vector3d(12.0, -4.0, 1.5));
   // A pose some way from the mean, so Jl^-1 and [rho]x matter.
-  const Pose T = geometry::make_pose(Eigen::Vector3d(0.05, 0.08, -0.04), Eigen::Vector3d(0.2, 0.1, -0.3)) *
-                 T_mean;
+  const Pose T =
+      geometry::make_pose(Eigen::Vector3d(0.05, 0.08, -0.04), Eigen::Vector3d(0.2, 0.1, -0.3)) *
+      T_mean;
   const Vector6d e = pose_prior_residual(T, T_mean);
   const Matrix6d J = pose_prior_jacobian(e);
   constexpr double h = 1e-6;

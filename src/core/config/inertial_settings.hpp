@@ -17,10 +17,10 @@ struct InertialSettings {
   double gyro_bias_max_rps = 0.2;             ///< clamp of the estimate's magnitude
   double gyro_bias_gate_deg = 5.0;            ///< skip updates whose residual is larger
   // Fused mode (tracking.fusion: fused): the 15-state filter.
-  bool estimate_accel_bias = true;                    ///< estimate the accelerometer bias
-  double fused_initial_velocity_sigma_mps = 0.1;      ///< at the first frame (at rest)
-  double fused_initial_gyro_bias_sigma_rps = 0.01;    ///< prior sigma of the gyro bias
-  double fused_initial_accel_bias_sigma_mps2 = 0.1;   ///< prior sigma of the accel bias
+  bool estimate_accel_bias = true;                   ///< estimate the accelerometer bias
+  double fused_initial_velocity_sigma_mps = 0.1;     ///< at the first frame (at rest)
+  double fused_initial_gyro_bias_sigma_rps = 0.01;   ///< prior sigma of the gyro bias
+  double fused_initial_accel_bias_sigma_mps2 = 0.1;  ///< prior sigma of the accel bias
 
   void visit(Visitor& v) {
     v.field("scheme", scheme, {"midpoint", "zoh"},

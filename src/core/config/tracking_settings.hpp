@@ -21,7 +21,7 @@ struct TrackingSettings {
   std::string knn_search = "image_grid";              ///< image_grid | kdtree
   // GICP.
   double max_correspondence_distance_m = 0.1;  ///< farther nearest neighbours are outliers
-  std::string robust_kernel = "huber";  ///< none | huber | cauchy | geman_mcclure
+  std::string robust_kernel = "huber";         ///< none | huber | cauchy | geman_mcclure
   double robust_kernel_width = 0.5;            ///< on sqrt(d^T M d)
   int max_iterations = 30;
   double rotation_eps_deg = 0.1;    ///< converged when |d rotation| is below this ...
@@ -33,16 +33,16 @@ struct TrackingSettings {
   double keyframe_translation_m = 0.3;         ///< or when moved farther than this
   double keyframe_rotation_deg = 15.0;         ///< or turned more than this
   // Local map.
-  double local_map_voxel_m = 0.1;       ///< voxel edge of the local map hash
-  int local_map_points_per_voxel = 20;  ///< per-voxel capacity
-  int local_map_max_voxels = 16384;     ///< bound: max points = voxels * points per voxel
-  double local_map_radius_m = 6.0;      ///< voxels farther from the camera are evicted
-  double local_map_confirm_distance_m = 0.05;  ///< re-observation distance confirming a point
-  int local_map_confirm_keyframes = 3;         ///< unconfirmed points dropped after this many
+  double local_map_voxel_m = 0.1;             ///< voxel edge of the local map hash
+  int local_map_points_per_voxel = 20;        ///< per-voxel capacity
+  int local_map_max_voxels = 16384;           ///< bound: max points = voxels * points per voxel
+  double local_map_radius_m = 6.0;            ///< voxels farther from the camera are evicted
+  double local_map_confirm_distance_m = 0.0;  ///< re-observation distance confirming a point
+  int local_map_confirm_keyframes = 3;        ///< unconfirmed points dropped after this many
   // Moving people.
-  double moving_margin_m = 0.25;  ///< keyframe point this far in front of the map: moving
+  double moving_margin_m = 0.0;  ///< keyframe point this far in front of the map: moving
   // IMU/GICP fusion.
-  std::string fusion = "fused";      ///< fused | paper
+  std::string fusion = "paper";      ///< fused | paper
   double gicp_variance_scale = 1.0;  ///< GICP residuals: this many times their covariance
   // Initial guess and failure detection.
   std::string initial_guess = "imu";     ///< imu | constant_velocity | previous_pose
