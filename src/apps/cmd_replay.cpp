@@ -1,10 +1,12 @@
 // `vigs replay`: lockstep replay of an MCAP recording through the odometry (IMU-seeded GICP
 // tracking), written as a RESULTS_DIR for `vigs eval run`.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "apps/commands.hpp"
 #include "core/config/default_config.hpp"
@@ -18,7 +20,7 @@ namespace vigs::apps {
 namespace {
 
 struct ReplayArgs {
-  std::string recording, out, config_file, guess;
+  std::string recording, out, config_file, guess, fusion, initial_pose = "gravity";
   std::int64_t frames = 0;
   int map_iterations = 0;
   bool quiet = false;
@@ -34,13 +36,28 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   io::Json s;
   s["recording"] = recording;
   s["guess"] = std::string(pipeline::to_string(r.guess));
+  s["fusion"] = std::string(
+      r.guess == tracking::InitialGuessMode::imu ? pipeline::to_string(r.fusion) : "none");
   s["initial_pose"] = std::string(pipeline::to_string(r.initial_pose));
   s["frames"] = n;
   s["wall_s"] = num(r.wall_s);
   s["fps"] = r.wall_s > 0 ? num(frames / r.wall_s) : io::Json(nullptr);
   s["track_ms_per_frame"] = n > 0 ? num(1e3 * r.track_s / frames) : io::Json(nullptr);
   s["peak_rss_bytes"] = std::llround(pipeline::peak_rss_bytes());
+  std::vector<float> ms = r.track_ms;
+  const auto percentile = [&ms](double q) -> io::Json {
+    if (ms.empty()) return nullptr;
+    const auto k = static_cast<std::size_t>(q * static_cast<double>(ms.size() - 1) + 0.5);
+    std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(k), ms.end());
+    return io::rounded(static_cast<double>(ms[k]), 10);
+  };
+  s["track_ms_p50"] = percentile(0.5);
+  s["track_ms_p99"] = percentile(0.99);
   s["tracked"] = c.tracked;
+  s["not_converged"] = c.not_converged;
+  s["degenerate"] = c.degenerate;
+  s["moving_points"] = c.moving_points;
+  s["fused_updates"] = c.fused_updates;
   s["lost"] = c.lost;
   s["lost_low_inliers"] = c.lost_low_inliers;
   s["lost_diverged"] = c.lost_diverged;
@@ -79,6 +96,14 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                   "initial guess: imu (VIGS), constant_velocity, previous_pose (GS-ICP SLAM); "
                   "default tracking.initial_guess")
       ->check(CLI::IsMember({"imu", "constant_velocity", "previous_pose"}));
+  cmd->add_option("--fusion", a.fusion,
+                  "imu guess only: fused (IMU prior in GICP, 15-state filter) or paper (IMU guess, "
+                  "then reset from GICP); default tracking.fusion")
+      ->check(CLI::IsMember({"fused", "paper"}));
+  cmd->add_option("--initial-pose", a.initial_pose,
+                  "first pose: gravity (attitude from the accelerometer at rest, yaw 0, the "
+                  "default) or ground_truth (the recording's, for debugging)")
+      ->check(CLI::IsMember({"gravity", "ground_truth"}));
   cmd->add_option("--frames", a.frames, "replay only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--map-iterations", a.map_iterations,
@@ -93,7 +118,15 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                                 : config::load_config_file(a.config_file);
       pipeline::ReplayOptions opt;
       if (!a.guess.empty()) opt.guess = tracking::initial_guess_from_string(a.guess);
+      if (!a.fusion.empty()) {
+        pipeline::FusionMode m = pipeline::FusionMode::fused;
+        pipeline::parse_fusion_mode(a.fusion, m);
+        opt.fusion = m;
+      }
       opt.max_frames = a.frames;
+      opt.initial_pose = a.initial_pose == "ground_truth"
+                             ? pipeline::InitialPoseSource::ground_truth
+                             : pipeline::InitialPoseSource::gravity;
       opt.map_iterations_per_frame = a.map_iterations;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;

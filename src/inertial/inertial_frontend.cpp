@@ -30,6 +30,12 @@ InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings&
       inertial.velocity_reset == "imu" ? VelocityReset::kImu : VelocityReset::kDifference;
   o.estimate_gyro_bias = inertial.estimate_gyro_bias;
   o.bias = GyroBiasEstimatorOptions::from(inertial);
+  o.gyro_random_walk = imu.gyro_random_walk;
+  o.accel_random_walk = imu.accel_random_walk;
+  o.initial_velocity_sigma_mps = inertial.fused_initial_velocity_sigma_mps;
+  o.initial_gyro_bias_sigma_rps = inertial.fused_initial_gyro_bias_sigma_rps;
+  o.initial_accel_bias_sigma_mps2 = inertial.fused_initial_accel_bias_sigma_mps2;
+  o.estimate_accel_bias = inertial.estimate_accel_bias;
   return o;
 }
 
@@ -140,6 +146,98 @@ bool InertialFrontend::reset_from_tracked(std::int64_t t_cam_ns, const geometry:
   t_last_ns_ = t_ns;
   started_ = true;
   pi_.reset(r, bias_.bias_rps(), bias_accel_mps2_);
+  ++counters_.resets;
+  return true;
+}
+
+bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred,
+                                       Mat15& P_pred) {
+  if (!started_ || t_ns < pi_.t_end_ns()) return false;
+  advance_to(t_ns);
+  Preintegrator scratch;
+  const Preintegrator* p = &pi_;
+  if (t_ns > pi_.t_end_ns()) {
+    if (commit) {
+      pi_.integrate(reading_at(t_ns));
+    } else {
+      scratch = pi_;
+      scratch.integrate(reading_at(t_ns));
+      p = &scratch;
+    }
+  }
+  s_pred = predict_nav_state(state_, p->delta(), options_.g_w_mps2);
+  Mat15 Phi;
+  Mat15x9 G;
+  prediction_jacobians(state_, *p, Phi, G);
+  P_pred = Phi * P_ * Phi.transpose() + G * p->covariance() * G.transpose();
+  const double dt = p->dt_s();
+  const double qg = options_.gyro_random_walk * options_.gyro_random_walk * dt;
+  const double qa = options_.estimate_accel_bias
+                        ? options_.accel_random_walk * options_.accel_random_walk * dt
+                        : 0.0;
+  P_pred.block<3, 3>(9, 9).diagonal().array() += qg;
+  P_pred.block<3, 3>(12, 12).diagonal().array() += qa;
+  return true;
+}
+
+std::optional<InertialFrontend::PosePrediction> InertialFrontend::predict_camera_pose_fused(
+    std::int64_t t_cam_ns) {
+  const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
+  NavState s;
+  Mat15 P;
+  if (!propagate_fused(t_ns, false, s, P)) return std::nullopt;
+  PosePrediction out;
+  out.T_w_c = s.T_w_b() * options_.T_b_c;
+  const Mat6x15 J = camera_pose_jacobian(s.p_w_b_m);
+  out.covariance = J * P * J.transpose();
+  return out;
+}
+
+bool InertialFrontend::update_fused(std::int64_t t_cam_ns, const geometry::Pose& T_w_c,
+                                    const Mat6& information) {
+  const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
+  const geometry::Pose T_w_b = T_w_c * options_.T_b_c.inverse();
+  NavState s;
+  if (!started_) {
+    advance_to(t_ns);
+    s.R_w_b = T_w_b.linear();
+    s.p_w_b_m = T_w_b.translation();
+    // The first frame defines the world: its pose is exact; the body starts at rest.
+    P_.setZero();
+    P_.block<3, 3>(0, 0).diagonal().setConstant(1e-12);
+    P_.block<3, 3>(3, 3).diagonal().setConstant(1e-12);
+    const double sv = options_.initial_velocity_sigma_mps;
+    const double sg = options_.initial_gyro_bias_sigma_rps;
+    const double sa = options_.estimate_accel_bias ? options_.initial_accel_bias_sigma_mps2 : 0.0;
+    P_.block<3, 3>(6, 6).diagonal().setConstant(sv * sv);
+    P_.block<3, 3>(9, 9).diagonal().setConstant(sg * sg);
+    P_.block<3, 3>(12, 12).diagonal().setConstant(sa * sa);
+  } else {
+    Mat15 P;
+    if (!propagate_fused(t_ns, true, s, P)) return false;
+    P_ = P;
+    const Mat6x15 J = camera_pose_jacobian(s.p_w_b_m);
+    const geometry::Pose T_w_c_pred = s.T_w_b() * options_.T_b_c;
+    // e* of the fused pose relative to the prediction (tracking/pose_prior.hpp convention).
+    const Eigen::Matrix3d dR = T_w_c.linear() * T_w_c_pred.linear().transpose();
+    Vec6 e;
+    e.head<3>() = geometry::so3_log<double>(dR);
+    e.tail<3>() = T_w_c.translation() - dR * T_w_c_pred.translation();
+    Vec15 dx;
+    if (fused_pose_update(J, e, information, P_, dx)) {
+      s.v_w_b_mps += dx.segment<3>(6);
+      bias_.set_bias_rps(bias_.bias_rps() + dx.segment<3>(9));
+      if (options_.estimate_accel_bias) bias_accel_mps2_ += dx.segment<3>(12);
+    }
+    // R and p exactly the fused pose's (dx's pose part is e* to first order).
+    s.R_w_b = T_w_b.linear();
+    s.p_w_b_m = T_w_b.translation();
+  }
+  state_ = s;
+  T_w_c_last_ = T_w_c;
+  t_last_ns_ = t_ns;
+  started_ = true;
+  pi_.reset(reading_at(t_ns), bias_.bias_rps(), bias_accel_mps2_);
   ++counters_.resets;
   return true;
 }

@@ -23,6 +23,7 @@
 #include "inertial/gyro_bias_estimator.hpp"
 #include "inertial/nav_state.hpp"
 #include "inertial/preintegrator.hpp"
+#include "inertial/state_propagation.hpp"
 
 namespace vigs::inertial {
 
@@ -41,6 +42,14 @@ struct InertialFrontendOptions {
   VelocityReset velocity_reset = VelocityReset::kDifference;
   bool estimate_gyro_bias = true;
   GyroBiasEstimatorOptions bias;
+  /// Fused mode (update_fused): bias random walks (rad/s^2/sqrt(Hz), m/s^3/sqrt(Hz)) and the
+  /// initial standard deviations of velocity and biases at the first reset.
+  double gyro_random_walk = 1.9393e-5;
+  double accel_random_walk = 3.0e-3;
+  double initial_velocity_sigma_mps = 0.1;
+  double initial_gyro_bias_sigma_rps = 0.01;
+  double initial_accel_bias_sigma_mps2 = 0.1;
+  bool estimate_accel_bias = true;  ///< fused mode: false pins the accel bias (sigma 0)
 
   static InertialFrontendOptions from(const config::ImuSettings& imu,
                                       const config::ExtrinsicsSettings& extrinsics,
@@ -73,6 +82,24 @@ class InertialFrontend {
   /// a time before the last reset.
   bool reset_from_tracked(std::int64_t t_ns, const geometry::Pose& T_w_c);
 
+  /// Fused mode (state_propagation.hpp). The camera pose predicted at t_ns with its 6x6
+  /// covariance (of e = [phi; rho] about the world origin, tracking/pose_prior.hpp), from the
+  /// filter state (R, p, v, biases) and covariance at the last update, propagated with the
+  /// preintegration covariance and the bias random walks. nullopt as predict_camera_pose.
+  struct PosePrediction {
+    geometry::Pose T_w_c = geometry::Pose::Identity();
+    Mat6 covariance = Mat6::Zero();
+  };
+  [[nodiscard]] std::optional<PosePrediction> predict_camera_pose_fused(std::int64_t t_ns);
+  /// Fused mode: the tracker's fused estimate T_w_c at t_ns with its posterior information Y
+  /// (prior + GICP, metric) updates the whole state — pose, velocity, gyro and accel bias —
+  /// by fused_pose_update and restarts the integrator there. The first call starts the filter
+  /// (at rest: v = 0) and ignores Y. Returns false for a time before the last update.
+  bool update_fused(std::int64_t t_ns, const geometry::Pose& T_w_c, const Mat6& information);
+  /// Fused-mode covariance of [dtheta, dp, dv, dbg, dba] at the last update.
+  [[nodiscard]] const Mat15& state_covariance() const { return P_; }
+  [[nodiscard]] const Eigen::Vector3d& velocity_w_mps() const { return state_.v_w_b_mps; }
+
   /// Biases used for the next interval; setting them before the first reset seeds them.
   void set_biases(const Eigen::Vector3d& gyro_rps, const Eigen::Vector3d& accel_mps2);
   [[nodiscard]] const Eigen::Vector3d& bias_gyro_rps() const { return bias_.bias_rps(); }
@@ -84,6 +111,8 @@ class InertialFrontend {
 
  private:
   void advance_to(std::int64_t t_ns);
+  /// Fused mode: integrates up to t and returns the predicted state and covariance.
+  bool propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred, Mat15& P_pred);
   [[nodiscard]] ImuSample reading_at(std::int64_t t_ns);
   [[nodiscard]] const ImuSample& front() const { return ring_[head_]; }
   void pop_front();
@@ -103,6 +132,7 @@ class InertialFrontend {
   std::int64_t t_last_ns_ = 0;  ///< time of the last reset
   GyroBiasEstimator bias_;
   Eigen::Vector3d bias_accel_mps2_ = Eigen::Vector3d::Zero();
+  Mat15 P_ = Mat15::Zero();
   InertialFrontendCounters counters_;
 };
 

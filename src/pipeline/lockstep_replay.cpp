@@ -43,12 +43,16 @@ const char* to_string(InitialPoseSource source) {
 }
 
 geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_first_ns,
-                                   const config::RobotConfig& cfg, InitialPoseSource& used) {
+                                   const config::RobotConfig& cfg, InitialPoseSource& used,
+                                   InitialPoseSource prefer) {
   const geometry::Pose T_b_c =
       inertial::InertialFrontendOptions::from(cfg.imu, cfg.extrinsics, cfg.inertial).T_b_c;
-  if (const auto T_w_b = interpolate_pose(motion.body_poses, t_first_ns)) {
+  const auto T_w_b_gt = prefer == InitialPoseSource::ground_truth || motion.imu.empty()
+                            ? interpolate_pose(motion.body_poses, t_first_ns)
+                            : std::nullopt;
+  if (T_w_b_gt) {
     used = InitialPoseSource::ground_truth;
-    return *T_w_b * T_b_c;
+    return *T_w_b_gt * T_b_c;
   }
   constexpr std::int64_t kRestWindowNs = 500'000'000;
   std::size_t begin = 0, end = 0;
@@ -89,7 +93,9 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     if (!odometry) {
       OdometryOptions opt;
       opt.guess = options.guess;
-      opt.initial_T_w_c = initial_camera_pose(motion, t_ns, cfg, result.initial_pose);
+      opt.fusion = options.fusion;
+      opt.initial_T_w_c =
+          initial_camera_pose(motion, t_ns, cfg, result.initial_pose, options.initial_pose);
       odometry.emplace(cfg, rec.camera, opt);
       // Without samples the frontend would integrate zero specific force: free fall.
       if (odometry->guess_mode() == tracking::InitialGuessMode::imu && motion.imu.empty()) {
@@ -100,6 +106,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
         mapper.emplace(cfg.mapping, rec.camera, options.map_iterations_per_frame);
       result.camera = rec.camera;
       result.guess = odometry->guess_mode();
+      result.fusion = odometry->fusion_mode();
       result.frames.reserve(options.max_frames > 0 ? static_cast<std::size_t>(options.max_frames)
                                                    : 1024);
     } else {
@@ -121,7 +128,9 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     if (!rec.view.has_depth()) ++result.frames_without_depth;
     const auto t_track = std::chrono::steady_clock::now();
     const TrackedFrame f = odometry->track(rec.view);
-    result.track_s += seconds_since(t_track);
+    const double track_s = seconds_since(t_track);
+    result.track_s += track_s;
+    result.track_ms.push_back(static_cast<float>(1e3 * track_s));
     if (mapper) {
       const auto t_map = std::chrono::steady_clock::now();
       if (f.keyframe) mapper->add_keyframe(odometry->tracker().last_keyframe(), rec.view);

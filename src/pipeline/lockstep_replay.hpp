@@ -8,12 +8,13 @@
 // frame every IMU sample with t <= the frame stamp is fed, in stamp order.
 //
 // The first frame's pose (the world frame must be gravity-aligned, z up, for the IMU):
-//  - ground_truth: the recording's T_w_b at the first frame (interpolated) times T_b_c; the
-//    estimate then shares the ground truth's world frame;
-//  - gravity: when the recording has no ground truth, the attitude from the mean accelerometer
+//  - gravity (default, ReplayOptions::initial_pose): the attitude from the mean accelerometer
 //    reading of the IMU samples in the 0.5 s up to the first frame (the sensor must be at rest
-//    then; yaw 0, position 0);
-//  - identity: neither ground truth nor IMU samples (fine for the no-IMU baselines only).
+//    then; yaw 0, position 0), so no ground truth enters the estimate;
+//  - ground_truth (on request, for debugging; or when the recording has no IMU): the
+//    recording's T_w_b at the first frame (interpolated) times T_b_c; the estimate then shares
+//    the ground truth's world frame;
+//  - identity: neither (fine for the no-IMU baselines only).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -45,12 +46,18 @@ enum class InitialPoseSource { ground_truth, gravity, identity };
 const char* to_string(InitialPoseSource source);
 
 /// The first frame's camera pose from the recording (see the header comment); `used` says which.
+/// `prefer` gravity: the ground truth is used only when there are no IMU samples.
 geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_first_ns,
-                                   const config::RobotConfig& cfg, InitialPoseSource& used);
+                                   const config::RobotConfig& cfg, InitialPoseSource& used,
+                                   InitialPoseSource prefer = InitialPoseSource::ground_truth);
 
 struct ReplayOptions {
   std::optional<tracking::InitialGuessMode> guess;  ///< overrides tracking.initial_guess
+  std::optional<FusionMode> fusion;                 ///< overrides tracking.fusion
   std::int64_t max_frames = 0;                      ///< 0 = every frame
+  /// gravity: start from the gravity-aligned attitude at rest (no ground truth in the estimate);
+  /// ground_truth: from the recording's ground truth (debugging).
+  InitialPoseSource initial_pose = InitialPoseSource::gravity;
   /// > 0: build a Gaussian map in lockstep (lockstep_mapping.hpp) with this many mapper
   /// iterations after every frame; 0: no map.
   int map_iterations_per_frame = 0;
@@ -69,6 +76,8 @@ struct ReplayResult {
   std::int64_t frames_without_depth = 0;  ///< tracked with an all-invalid depth image
   double wall_s = 0.0;                    ///< whole replay: reading, decoding, tracking
   double track_s = 0.0;                   ///< inside Odometry::track only
+  std::vector<float> track_ms;            ///< per frame, inside Odometry::track
+  FusionMode fusion = FusionMode::fused;
   /// The map after the last frame's mapper tick (null without mapping).
   std::shared_ptr<const mapping::GaussianMap> map;
   long map_iterations = 0;

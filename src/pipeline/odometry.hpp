@@ -1,6 +1,11 @@
 #pragma once
 // The odometry front end: one InertialFrontend and one Tracker, driven frame by frame.
 //
+// Fusion (tracking.fusion, imu mode only): `fused` (default) hands the tracker the IMU-predicted
+// camera pose with its covariance from a 15-state filter (inertial/state_propagation.hpp) as a
+// prior factor of GICP's least squares, and updates the filter — pose, velocity, gyro and
+// accelerometer bias — from the fused result and its information; `paper` is the scheme below.
+//
 // With InitialGuessMode::imu each frame's GICP starts from the IMU-propagated pose the
 // InertialFrontend composes (VIGS: T_w_c(k) = T_w_c(k-1) · T_c_b · T_b(k-1→k) · T_b_c). After a
 // frame whose pose came from GICP the integrator is reset from it (R, p and v = Δp/Δt, the
@@ -20,6 +25,7 @@
 // than Tracker::track() itself.
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "core/config/robot_config.hpp"
 #include "core/types/imu_sample.hpp"
@@ -33,9 +39,20 @@ namespace vigs::pipeline {
 /// "imu", "constant_velocity" or "previous_pose" (the names tracking.initial_guess accepts).
 const char* to_string(tracking::InitialGuessMode mode);
 
+/// How the IMU and GICP are combined in imu mode (tracking.fusion).
+enum class FusionMode {
+  fused,  ///< IMU prediction + covariance as a GICP prior; 15-state filter updated from it
+  paper,  ///< VIGS: IMU guess, then reset from GICP (v = dp/dt, slow gyro-bias update)
+};
+const char* to_string(FusionMode mode);
+/// "fused" or "paper"; false for anything else.
+bool parse_fusion_mode(const std::string& name, FusionMode& out);
+
 struct OdometryOptions {
   /// Overrides tracking.initial_guess from the configuration when set.
   std::optional<tracking::InitialGuessMode> guess;
+  /// Overrides tracking.fusion when set.
+  std::optional<FusionMode> fusion;
   /// Camera pose of the first frame in the gravity-aligned (z-up) world; identity when unset.
   std::optional<geometry::Pose> initial_T_w_c;
 };
@@ -51,11 +68,23 @@ struct TrackedFrame {
   bool keyframe = false;
   double inlier_ratio = 0.0;
   int gicp_iterations = 0;
+  tracking::GicpVerdict gicp_verdict = tracking::GicpVerdict::diverged;  ///< (first: diverged)
+  bool prior_used = false;  ///< fused: GICP had the IMU prior
+  bool degenerate = false;  ///< GICP alone had a degenerate direction
+  int moving_points = 0;    ///< keyframe points rejected as moving
+  /// Pose covariance, row-major 6x6 in vigs::PoseSample's order [x y z rx ry rz] (m, rad):
+  /// translation of the camera position and rotation about it, both in world axes. From the
+  /// tracker's (fused: posterior) information; valid only when covariance_valid.
+  double covariance[36] = {};
+  bool covariance_valid = false;
 };
 
 struct OdometryCounters {
   long frames = 0;
-  long tracked = 0;           ///< pose from GICP (status tracked)
+  long tracked = 0;           ///< pose from GICP (status tracked), converged or not
+  long not_converged = 0;     ///< of the tracked: GICP hit max_iterations before converging
+  long degenerate = 0;        ///< frames whose GICP alone had a degenerate direction
+  long moving_points = 0;     ///< keyframe points rejected as moving, summed
   long lost = 0;              ///< any lost_* status
   long lost_low_inliers = 0;  ///< by status
   long lost_diverged = 0;
@@ -64,6 +93,7 @@ struct OdometryCounters {
   long imu_resets = 0;       ///< reset_from_tracked calls
   long imu_guesses = 0;      ///< frames whose guess came from the IMU
   long imu_unavailable = 0;  ///< imu mode but no prediction (tracker fell back)
+  long fused_updates = 0;    ///< fused mode: filter updates (incl. the start)
 };
 
 class Odometry {
@@ -84,12 +114,14 @@ class Odometry {
   TrackedFrame track(const RgbdView& frame);
 
   [[nodiscard]] tracking::InitialGuessMode guess_mode() const { return mode_; }
+  [[nodiscard]] FusionMode fusion_mode() const { return fusion_; }
   [[nodiscard]] const OdometryCounters& counters() const { return counters_; }
   [[nodiscard]] const tracking::Tracker& tracker() const { return tracker_; }
   [[nodiscard]] const inertial::InertialFrontend& inertial() const { return inertial_; }
 
  private:
   tracking::InitialGuessMode mode_;
+  FusionMode fusion_ = FusionMode::fused;
   std::optional<geometry::Pose> initial_T_w_c_;
   inertial::InertialFrontend inertial_;
   tracking::Tracker tracker_;

@@ -29,6 +29,6 @@ Gicp::Gicp(const Setting& setting, rt::WorkerTeam* team) : setting_(setting), te
 }
 
 template GicpResult Gicp::align<CloudTarget>(const CloudTarget&, const GaussianCloud&,
-                                             const geometry::Pose&);
+                                             const geometry::Pose&, const PosePrior*);
 
 }  // namespace vigs::tracking

@@ -23,6 +23,7 @@
 #include "tracking/kdtree.hpp"
 #include "tracking/organized_knn.hpp"
 #include "tracking/pixel_grid.hpp"
+#include "tracking/pose_prior.hpp"
 
 namespace vigs::tracking {
 
@@ -43,6 +44,17 @@ struct GicpResult {
   /// a covariance. num_inliers, inlier_ratio, overlap_ratio and cost are from the same
   /// linearisation.
   Matrix6d information = Matrix6d::Zero();
+  /// information + the prior's J^T Lambda J at T_t_s when align() was given a PosePrior (the
+  /// posterior information of the fused estimate, same units as the prior); else information.
+  Matrix6d information_posterior = Matrix6d::Zero();
+  bool prior_used = false;
+  double prior_cost = 0.0;  ///< e^T Lambda e of the prior at T_t_s (0 without a prior)
+  /// Degeneracy: eigen-decomposition of the scaled GICP-only Hessian (see eigen_ratio).
+  /// Directions whose eigenvalue is below degenerate_eigen_ratio times the largest, counted,
+  /// and the weakest one as a unit 6-vector [rotation about the matched centroid (scaled by
+  /// the RMS spread); translation] in the target frame.
+  int degenerate_directions = 0;
+  Vector6d weakest_direction = Vector6d::Zero();
   double inlier_ratio = 0.0;   ///< source points with a correspondence / source points
   double overlap_ratio = 0.0;  ///< source points with a target point within overlap distance
   int num_inliers = 0;
@@ -79,9 +91,11 @@ class Gicp {
 
   /// Target: anything with nearest(q, max_sq_dist, index, sq_dist), point(i) and cov(i)
   /// (CloudTarget below, LocalMap). Source covariances are source.cov_m2.
+  /// With `prior` (nullable) its factor is added to the least squares (pose_prior.hpp): the
+  /// prior's information must be in the GICP cost's units (the caller scales it).
   template <class Target>
   GicpResult align(const Target& target, const GaussianCloud& source,
-                   const geometry::Pose& T_t_s_init);
+                   const geometry::Pose& T_t_s_init, const PosePrior* prior = nullptr);
 
   [[nodiscard]] const Setting& setting() const { return setting_; }
 
@@ -94,9 +108,12 @@ class Gicp {
     int overlapping;
   };
   struct Linearization {
-    Matrix6d H = Matrix6d::Zero();
+    Matrix6d H = Matrix6d::Zero();  ///< total (with the prior's terms when there is one)
     Vector6d b = Vector6d::Zero();
     double cost = 0.0;
+    Matrix6d H_data = Matrix6d::Zero();  ///< GICP terms only
+    double cost_data = 0.0;
+    double cost_prior = 0.0;
     double sum_sq_range = 0.0;
     Eigen::Vector3d sum_y = Eigen::Vector3d::Zero();
     int inliers = 0;

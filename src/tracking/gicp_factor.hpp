@@ -17,7 +17,11 @@ namespace vigs::tracking {
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-enum class RobustKernel { none, huber, cauchy };
+/// Robust kernels on the squared Mahalanobis distance e2 = r^T M r, width w on sqrt(e2):
+/// huber (linear beyond w), cauchy (w^2 log(1 + e2/w^2)) and geman_mcclure
+/// (w^2 e2 / (w^2 + e2): bounded, so a gross outlier such as a walking person's point matched to
+/// the wall behind it adds at most w^2 to the cost and almost nothing to the system).
+enum class RobustKernel { none, huber, cauchy, geman_mcclure };
 
 /// dr/dxi at y = T p (3x6).
 inline Eigen::Matrix<double, 3, 6> gicp_residual_jacobian(const Eigen::Vector3d& y) {
@@ -43,6 +47,12 @@ inline double robust_weight(RobustKernel kernel, double width, double e2, double
       const double w2 = width * width;
       rho = w2 * std::log1p(e2 / w2);
       return 1.0 / (1.0 + e2 / w2);
+    }
+    case RobustKernel::geman_mcclure: {
+      const double w2 = width * width;
+      const double d = w2 + e2;
+      rho = w2 * e2 / d;
+      return (w2 * w2) / (d * d);
     }
     case RobustKernel::none:
       break;

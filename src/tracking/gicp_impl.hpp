@@ -72,7 +72,7 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
 
 template <class Target>
 GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
-                       const geometry::Pose& T_t_s_init) {
+                       const geometry::Pose& T_t_s_init, const PosePrior* prior) {
   GicpResult result;
   result.T_t_s = T_t_s_init;
   if (!T_t_s_init.matrix().allFinite()) {
@@ -80,7 +80,17 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
   }
   geometry::Pose T = T_t_s_init;
   hints_.assign(source.size(), KdTree::kNoHint);  // allocates only when the source grows
+  // Total system: GICP terms plus the prior's at the same pose.
+  const auto with_prior = [&](Linearization& l, const geometry::Pose& at) {
+    l.H_data = l.H;
+    l.cost_data = l.cost;
+    if (prior != nullptr) {
+      l.cost_prior = add_pose_prior(*prior, at, l.H, l.b);
+      l.cost += l.cost_prior;
+    }
+  };
   Linearization lin = linearize(target, source, T);
+  with_prior(lin, T);
   double lambda = setting_.lm_lambda_init;
   bool converged = false;
   int iterations = 0;
@@ -102,6 +112,7 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
       break;
     }
     Linearization lin_new = linearize(target, source, T_new);
+    with_prior(lin_new, T_new);
     // Accept when the cost does not rise; fewer inliers can only lower the cost, so a step
     // that loses most of them is refused as well.
     if (lin_new.inliers >= setting_.min_inliers && lin_new.cost <= lin.cost &&
@@ -120,7 +131,10 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
     }
   }
   result.T_t_s = T;
-  result.information = lin.H;
+  result.information = lin.H_data;
+  result.information_posterior = lin.H;
+  result.prior_used = prior != nullptr;
+  result.prior_cost = lin.cost_prior;
   result.iterations = iterations;
   result.cost = lin.cost;
   result.num_inliers = lin.inliers;
@@ -141,10 +155,14 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
   G.bottomLeftCorner<3, 3>() = geometry::hat<double>(c);
   Vector6d s;
   s << Eigen::Vector3d::Constant(1.0 / std::sqrt(L2)), Eigen::Vector3d::Ones();
-  const Matrix6d Hs = s.asDiagonal() * (G.transpose() * lin.H * G) * s.asDiagonal();
-  const Vector6d ev =
-      Eigen::SelfAdjointEigenSolver<Matrix6d>(Hs, Eigen::EigenvaluesOnly).eigenvalues();
+  const Matrix6d Hs = s.asDiagonal() * (G.transpose() * lin.H_data * G) * s.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(Hs);
+  const Vector6d ev = eig.eigenvalues();
   result.eigen_ratio = ev(5) > 0.0 ? std::max(ev(0), 0.0) / ev(5) : 0.0;
+  for (int k = 0; k < 6; ++k) {
+    if (!(ev(k) >= setting_.degenerate_eigen_ratio * ev(5))) ++result.degenerate_directions;
+  }
+  result.weakest_direction = eig.eigenvectors().col(0);
   if (result.eigen_ratio < setting_.degenerate_eigen_ratio) {
     result.verdict = GicpVerdict::degenerate;
   } else {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 #include "tracking/gicp_impl.hpp"
 
@@ -33,6 +34,8 @@ LocalMap::LocalMap(const Setting& setting) : setting_(setting) {
   const auto nv = static_cast<std::size_t>(setting_.max_voxels);
   points_w_.resize(nv * static_cast<std::size_t>(setting_.points_per_voxel));
   covs_w_.resize(points_w_.size());
+  confirmed_.resize(points_w_.size());
+  born_.resize(points_w_.size());
   voxels_.resize(nv);
   table_.assign(std::bit_ceil(2 * nv), kEmpty);
   free_.reserve(nv);
@@ -49,11 +52,14 @@ void LocalMap::clear() {
   }
   num_points_ = 0;
   num_voxels_ = 0;
+  num_confirmed_ = 0;
+  confirmed_only_ = false;
 }
 
 std::size_t LocalMap::memory_bytes() const {
   return points_w_.capacity() * sizeof(Eigen::Vector3f) +
-         covs_w_.capacity() * sizeof(Eigen::Matrix3f) + voxels_.capacity() * sizeof(Voxel) +
+         covs_w_.capacity() * sizeof(Eigen::Matrix3f) + confirmed_.capacity() +
+         born_.capacity() * sizeof(std::uint32_t) + voxels_.capacity() * sizeof(Voxel) +
          table_.capacity() * sizeof(std::uint32_t) + free_.capacity() * sizeof(std::uint32_t) +
          scratch_.capacity() * sizeof(scratch_[0]);
 }
@@ -103,6 +109,10 @@ void LocalMap::remove_voxel(std::uint32_t slot) {
     for (;;) {
       j = (j + 1) & mask;
       if (table_[j] == kEmpty) {
+        const std::size_t base = slot * static_cast<std::size_t>(setting_.points_per_voxel);
+        for (std::size_t k = 0; k < static_cast<std::size_t>(voxels_[slot].count); ++k) {
+          num_confirmed_ -= confirmed_[base + k];
+        }
         num_points_ -= static_cast<std::size_t>(voxels_[slot].count);
         voxels_[slot] = Voxel{};
         free_.push_back(slot);
@@ -143,16 +153,64 @@ void LocalMap::evict_least_recent(std::size_t count) {
   for (std::size_t e = 0; e < evict; ++e) remove_voxel(scratch_[e].second);
 }
 
-void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c) {
+void LocalMap::prune_tentative() {
+  const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
+  const auto keep = static_cast<std::uint64_t>(std::max(1, setting_.confirm_keyframes));
+  for (std::uint32_t s = 0; s < voxels_.size(); ++s) {
+    Voxel& v = voxels_[s];
+    if (!v.used) continue;
+    const std::size_t base = s * P;
+    std::size_t out = 0;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(v.count); ++k) {
+      const std::size_t at = base + k;
+      if (confirmed_[at] == 0 && stamp_ - born_[at] > keep) {
+        ++pruned_;
+        continue;
+      }
+      if (out != k) {
+        points_w_[base + out] = points_w_[at];
+        covs_w_[base + out] = covs_w_[at];
+        confirmed_[base + out] = confirmed_[at];
+        born_[base + out] = born_[at];
+      }
+      ++out;
+    }
+    num_points_ -= static_cast<std::size_t>(v.count) - out;
+    v.count = static_cast<std::int32_t>(out);
+    // An emptied voxel stays allocated until evicted (its stamp says when it was last seen).
+  }
+}
+
+void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c,
+                      const std::vector<std::uint8_t>* skip) {
   ++stamp_;
   evict_far(T_w_c.translation());
+  const bool confirm = setting_.confirm_distance_m > 0.0;
+  if (confirm) prune_tentative();
+  const float confirm_sq =
+      static_cast<float>(setting_.confirm_distance_m * setting_.confirm_distance_m);
   const Eigen::Matrix3f R = T_w_c.linear().cast<float>();
   const Eigen::Vector3f t = T_w_c.translation().cast<float>();
   const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
+  const bool use_skip = skip != nullptr && skip->size() == cloud_c.size();
   for (std::size_t i = 0; i < cloud_c.size(); ++i) {
+    if (use_skip && (*skip)[i] != 0) continue;
     const Eigen::Vector3f p = R * cloud_c.points_m[i] + t;
     if (!((p * inv_voxel_).cwiseAbs().maxCoeff() < static_cast<float>(kAxisBias - 2))) {
       continue;  // outside the addressable grid (+-2^20 voxels) or NaN
+    }
+    // Re-observation by this keyframe confirms both points (earlier keyframes' points only:
+    // a point of this keyframe does not confirm its neighbour in the same frame).
+    std::uint8_t is_confirmed = confirm ? 0 : 1;
+    if (confirm) {
+      std::uint32_t j = 0;
+      if (nearest_any(p, confirm_sq, j)) {
+        if (confirmed_[j] == 0) {
+          confirmed_[j] = 1;
+          ++num_confirmed_;
+        }
+        is_confirmed = 1;
+      }
     }
     const std::int64_t key = key_of(p);
     std::uint32_t slot = find(key);
@@ -171,13 +229,92 @@ void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c)
     const std::size_t at = slot * P + static_cast<std::size_t>(v.count);
     points_w_[at] = p;
     covs_w_[at] = R * cloud_c.cov_m2[i] * R.transpose();
+    confirmed_[at] = is_confirmed;
+    born_[at] = static_cast<std::uint32_t>(stamp_);
+    num_confirmed_ += is_confirmed;
     ++v.count;
     ++num_points_;
+  }
+  confirmed_only_ = confirm && num_confirmed_ >= kMinConfirmedPoints;
+}
+
+bool LocalMap::nearest_any(const Eigen::Vector3f& q_w, float max_sq_dist,
+                           std::uint32_t& index) const {
+  // Points of earlier keyframes only: those of the current one carry the current stamp.
+  float d2 = 0.0f;
+  const auto cur = static_cast<std::uint32_t>(stamp_);
+  const Eigen::Vector3f g = q_w * inv_voxel_;
+  const std::int64_t c[3] = {static_cast<std::int64_t>(std::floor(g.x())),
+                             static_cast<std::int64_t>(std::floor(g.y())),
+                             static_cast<std::int64_t>(std::floor(g.z()))};
+  const auto P = static_cast<std::uint32_t>(setting_.points_per_voxel);
+  float best = max_sq_dist;
+  bool found = false;
+  // confirm_distance_m <= voxel_m is not required: scan as many voxels as the radius needs.
+  const auto reach = static_cast<std::int64_t>(std::ceil(std::sqrt(max_sq_dist) * inv_voxel_));
+  for (std::int64_t dx = -reach; dx <= reach; ++dx) {
+    for (std::int64_t dy = -reach; dy <= reach; ++dy) {
+      for (std::int64_t dz = -reach; dz <= reach; ++dz) {
+        const std::uint32_t slot = find(pack(c[0] + dx, c[1] + dy, c[2] + dz));
+        if (slot == kEmpty) continue;
+        const std::uint32_t base = slot * P;
+        const auto n = static_cast<std::uint32_t>(voxels_[slot].count);
+        for (std::uint32_t k = 0; k < n; ++k) {
+          if (born_[base + k] == cur) continue;
+          d2 = (points_w_[base + k] - q_w).squaredNorm();
+          if (d2 < best) {
+            best = d2;
+            index = base + k;
+            found = true;
+          }
+        }
+      }
+    }
+  }
+  return found;
+}
+
+void LocalMap::render_min_depth(const PinholeCamera& camera, const geometry::Pose& T_c_w,
+                                int cell_px, int cols, int rows,
+                                std::vector<float>& depth_m) const {
+  depth_m.assign(static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows),
+                 std::numeric_limits<float>::infinity());
+  const Eigen::Matrix3f R = T_c_w.linear().cast<float>();
+  const Eigen::Vector3f t = T_c_w.translation().cast<float>();
+  const auto fx = static_cast<float>(camera.fx_px), fy = static_cast<float>(camera.fy_px);
+  const auto cx = static_cast<float>(camera.cx_px), cy = static_cast<float>(camera.cy_px);
+  const float inv_cell = 1.0f / static_cast<float>(cell_px);
+  const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
+  for (std::size_t s = 0; s < voxels_.size(); ++s) {
+    const Voxel& v = voxels_[s];
+    if (!v.used) continue;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(v.count); ++k) {
+      const std::size_t at = s * P + k;
+      if (confirmed_only_ && confirmed_[at] == 0) continue;
+      const Eigen::Vector3f p = R * points_w_[at] + t;
+      if (!(p.z() > 0.05f)) continue;
+      const float u = (fx * p.x() / p.z() + cx) * inv_cell;
+      const float w = (fy * p.y() / p.z() + cy) * inv_cell;
+      if (!(u >= 0.0f && w >= 0.0f && u < static_cast<float>(cols) &&
+            w < static_cast<float>(rows))) {
+        continue;
+      }
+      float& d = depth_m[static_cast<std::size_t>(w) * static_cast<std::size_t>(cols) +
+                         static_cast<std::size_t>(u)];
+      d = std::min(d, p.z());
+    }
   }
 }
 
 bool LocalMap::nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
                        float& sq_dist) const {
+  return confirmed_only_ ? nearest_impl<true>(q_w, max_sq_dist, index, sq_dist)
+                         : nearest_impl<false>(q_w, max_sq_dist, index, sq_dist);
+}
+
+template <bool kConfirmedOnly>
+bool LocalMap::nearest_impl(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
+                            float& sq_dist) const {
   const Eigen::Vector3f g = q_w * inv_voxel_;
   if (!(g.cwiseAbs().maxCoeff() < static_cast<float>(kAxisBias - 2))) {
     return false;  // outside the addressable grid (or NaN)
@@ -202,6 +339,9 @@ bool LocalMap::nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint3
     const std::uint32_t base = slot * P;
     const auto n = static_cast<std::uint32_t>(voxels_[slot].count);
     for (std::uint32_t k = 0; k < n; ++k) {
+      if constexpr (kConfirmedOnly) {
+        if (confirmed_[base + k] == 0) continue;
+      }
       const float d2 = (points_w_[base + k] - q_w).squaredNorm();
       if (d2 < best) {
         best = d2;
@@ -230,6 +370,6 @@ bool LocalMap::nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint3
 }
 
 template GicpResult Gicp::align<LocalMap>(const LocalMap&, const GaussianCloud&,
-                                          const geometry::Pose&);
+                                          const geometry::Pose&, const PosePrior*);
 
 }  // namespace vigs::tracking

@@ -9,15 +9,24 @@
 // allocate.
 //
 // Bound: at most max_voxels * points_per_voxel points. Memory is fixed at construction:
-// max_voxels * points_per_voxel * 48 B (point 12 B + covariance 36 B) + max_voxels * 24 B
-// of voxel records + 2-4 * max_voxels * 4 B of hash table. Defaults (16384 voxels x 20
-// points): 327,680 points, about 16 MB.
+// max_voxels * points_per_voxel * 53 B (point 12 B + covariance 36 B + stamp and flag 5 B) +
+// max_voxels * 24 B of voxel records + 2-4 * max_voxels * 4 B of hash table. Defaults (16384 voxels
+// x 20 points): 327,680 points, about 16 MB.
 //
 // Policy: a keyframe's points go to the voxel they fall in; a full voxel keeps its points
 // (later ones are dropped) but is stamped as seen. Voxels farther than `radius_m` from the
 // camera are evicted before each insertion; when the pool runs out of free voxels during an
 // insertion, the least recently seen sixteenth of the pool is evicted (ties by slot, so the
 // map is deterministic).
+//
+// Moving objects (people): with confirm_distance_m > 0 a keyframe's point enters the map as
+// TENTATIVE and becomes CONFIRMED when a later keyframe puts a point within confirm_distance_m
+// of it (and the later point is confirmed at once). Static surfaces are re-observed by the next
+// keyframe; a walking person has moved by then (0.3 m or more between keyframes at 1 m/s), so
+// his points stay tentative and are dropped after confirm_keyframes keyframes. GICP
+// correspondences (nearest()) use confirmed points only, once the map holds at least
+// kMinConfirmedPoints of them (before that, right after the first keyframe, all points).
+// Points the caller flags as moving (insert's `skip`) are not inserted at all.
 //
 // Correspondences: nearest() scans the query's voxel and its 26 neighbours, so it is exact
 // for search radii up to voxel_m (the config requires voxel_m >= max correspondence dist).
@@ -28,6 +37,7 @@
 #include <vector>
 
 #include "core/geometry/se3.hpp"
+#include "core/types/pinhole_camera.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
 namespace vigs::tracking {
@@ -39,14 +49,19 @@ class LocalMap {
     int points_per_voxel = 20;
     int max_voxels = 16384;
     double radius_m = 6.0;
+    double confirm_distance_m = 0.0;  ///< 0: every point is used at once (no confirmation)
+    int confirm_keyframes = 3;        ///< tentative points older than this many keyframes go
   };
+  static constexpr std::size_t kMinConfirmedPoints = 500;
 
   LocalMap();
   explicit LocalMap(const Setting& setting);
 
   /// Evicts voxels farther than radius_m from the camera, makes room by least-recently-seen
   /// eviction if needed, then inserts the cloud (camera frame) at T_w_c with a new stamp.
-  void insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c);
+  /// `skip` (nullable, one byte per point): points with a non-zero byte are not inserted.
+  void insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c,
+              const std::vector<std::uint8_t>* skip = nullptr);
   /// Evicts every voxel whose centre is farther than radius_m from `position_w`.
   void evict_far(const Eigen::Vector3d& position_w);
   void clear();
@@ -57,6 +72,15 @@ class LocalMap {
   [[nodiscard]] const Eigen::Vector3f& point(std::uint32_t i) const { return points_w_[i]; }
   [[nodiscard]] const Eigen::Matrix3f& cov(std::uint32_t i) const { return covs_w_[i]; }
 
+  /// Renders the confirmed map into a depth buffer seen from T_c_w: depth_m[cy * cols + cx] is
+  /// the smallest camera-frame z of the map points projecting into cell (cx, cy) of
+  /// `cell_px`-pixel cells (+infinity where none). Used for the free-space test of moving points.
+  void render_min_depth(const PinholeCamera& camera, const geometry::Pose& T_c_w, int cell_px,
+                        int cols, int rows, std::vector<float>& depth_m) const;
+  [[nodiscard]] bool confirmed(std::uint32_t i) const { return confirmed_[i] != 0; }
+  [[nodiscard]] std::size_t num_confirmed() const { return num_confirmed_; }
+  /// Tentative points dropped unconfirmed so far.
+  [[nodiscard]] std::size_t pruned_points() const { return pruned_; }
   [[nodiscard]] std::size_t num_points() const { return num_points_; }
   [[nodiscard]] std::size_t num_voxels() const { return num_voxels_; }
   [[nodiscard]] std::size_t max_points() const { return points_w_.size(); }
@@ -80,16 +104,26 @@ class LocalMap {
   std::uint32_t add_voxel(std::int64_t key);                 ///< kEmpty when the pool is full
   void remove_voxel(std::uint32_t slot);
   void evict_least_recent(std::size_t count);
+  void prune_tentative();
+  bool nearest_any(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index) const;
+  template <bool kConfirmedOnly>
+  bool nearest_impl(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
+                    float& sq_dist) const;
 
   Setting setting_;
   float inv_voxel_ = 10.0f;
   std::vector<Eigen::Vector3f> points_w_;
   std::vector<Eigen::Matrix3f> covs_w_;
+  std::vector<std::uint8_t> confirmed_;  ///< per point: 1 once re-observed
+  std::vector<std::uint32_t> born_;      ///< per point: the stamp it was inserted at
   std::vector<Voxel> voxels_;
   std::vector<std::uint32_t> table_;                              ///< hash position -> voxel slot
   std::vector<std::uint32_t> free_;                               ///< free voxel slots (stack)
   std::vector<std::pair<std::uint64_t, std::uint32_t>> scratch_;  ///< LRU selection
   std::size_t num_points_ = 0;
+  std::size_t num_confirmed_ = 0;
+  std::size_t pruned_ = 0;
+  bool confirmed_only_ = false;  ///< nearest() uses confirmed points only
   std::size_t num_voxels_ = 0;
   std::uint64_t stamp_ = 0;
 };

@@ -19,6 +19,7 @@ inline Regularization regularization_from_string(const std::string& name) {
 inline RobustKernel kernel_from_string(const std::string& name) {
   if (name == "huber") return RobustKernel::huber;
   if (name == "cauchy") return RobustKernel::cauchy;
+  if (name == "geman_mcclure") return RobustKernel::geman_mcclure;
   return RobustKernel::none;
 }
 
@@ -59,6 +60,10 @@ inline Tracker::Setting tracker_setting(const config::TrackingSettings& c) {
   s.local_map.points_per_voxel = c.local_map_points_per_voxel;
   s.local_map.max_voxels = c.local_map_max_voxels;
   s.local_map.radius_m = c.local_map_radius_m;
+  s.local_map.confirm_distance_m = c.local_map_confirm_distance_m;
+  s.local_map.confirm_keyframes = c.local_map_confirm_keyframes;
+  s.moving_margin_m = c.moving_margin_m;
+  s.gicp_variance_scale = c.gicp_variance_scale;
   s.keyframe.min_overlap_ratio = c.keyframe_overlap_ratio;
   s.keyframe.max_translation_m = c.keyframe_translation_m;
   s.keyframe.max_rotation_rad = c.keyframe_rotation_deg * kDeg;

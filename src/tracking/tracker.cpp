@@ -1,5 +1,7 @@
 #include "tracking/tracker.hpp"
 
+#include <algorithm>
+
 namespace vigs::tracking {
 
 std::string_view to_string(TrackingStatus status) {
@@ -25,7 +27,43 @@ Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geom
       gicp_(setting.gicp, setting.gicp.num_threads == team_.size() ? &team_ : nullptr),
       map_(setting.local_map),
       policy_{setting.keyframe},
+      camera_(camera),
       T_w_c0_(T_w_c0) {}
+
+void Tracker::set_pose_prior(const geometry::Pose& T_w_c_mean, const Matrix6d& information) {
+  prior_.T_mean = T_w_c_mean;
+  // Metric information into the GICP cost's units (its residual weights are the modelled
+  // covariances without the variance scale).
+  prior_.information = information * setting_.gicp_variance_scale;
+  prior_pending_ = T_w_c_mean.matrix().allFinite() && information.allFinite();
+}
+
+int Tracker::flag_moving(const geometry::Pose& T_w_c) {
+  keyframe_.moving.assign(cloud_.size(), 0);
+  if (!(setting_.moving_margin_m > 0.0) || map_.num_points() == 0) return 0;
+  // The map's nearest surface per cell of 2x2 sampled pixels, from this keyframe's pose.
+  const int cell = 2 * std::max(1, setting_.preprocess.depth.pixel_stride);
+  const int cols = (camera_.width_px + cell - 1) / cell;
+  const int rows = (camera_.height_px + cell - 1) / cell;
+  map_.render_min_depth(camera_, T_w_c.inverse(), cell, cols, rows, map_depth_);
+  const auto margin = static_cast<float>(setting_.moving_margin_m);
+  const auto fx = static_cast<float>(camera_.fx_px), fy = static_cast<float>(camera_.fy_px);
+  const auto cx = static_cast<float>(camera_.cx_px), cy = static_cast<float>(camera_.cy_px);
+  int moving = 0;
+  for (std::size_t i = 0; i < cloud_.size(); ++i) {
+    const Eigen::Vector3f& p = cloud_.points_m[i];
+    if (!(p.z() > 0.0f)) continue;
+    const int u = static_cast<int>((fx * p.x() / p.z() + cx) / static_cast<float>(cell));
+    const int v = static_cast<int>((fy * p.y() / p.z() + cy) / static_cast<float>(cell));
+    if (u < 0 || v < 0 || u >= cols || v >= rows) continue;
+    const float z_map = map_depth_[static_cast<std::size_t>(v * cols + u)];
+    if (p.z() < z_map - margin) {  // infinity (no map surface there) never flags
+      keyframe_.moving[i] = 1;
+      ++moving;
+    }
+  }
+  return moving;
+}
 
 geometry::Pose Tracker::guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu,
                               bool& fell_back) const {
@@ -45,7 +83,7 @@ geometry::Pose Tracker::guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu
 }
 
 void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
-  map_.insert(cloud_, T_w_c);
+  map_.insert(cloud_, T_w_c, &keyframe_.moving);
   keyframe_.t_ns = t_ns;
   keyframe_.T_w_c = T_w_c;
   keyframe_.cloud_c.points_m = cloud_.points_m;  // assignment reuses capacity
@@ -64,16 +102,19 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
     out.status = TrackingStatus::initialized;
     out.pose_from_gicp = false;
     out.keyframe = true;
+    keyframe_.moving.assign(cloud_.size(), 0);
     make_keyframe(t_ns, out.T_w_c);
   } else {
     out.T_w_c_guess = guess(t_ns, T_w_c_imu, out.guess_fell_back);
-    out.gicp = gicp_.align(map_, cloud_, out.T_w_c_guess);
+    out.prior_used = prior_pending_;
+    out.gicp = gicp_.align(map_, cloud_, out.T_w_c_guess, prior_pending_ ? &prior_ : nullptr);
+    out.degenerate = out.gicp.degenerate_directions > 0;
     const geometry::PoseError correction = geometry::pose_error(out.T_w_c_guess, out.gicp.T_t_s);
     if (out.gicp.verdict == GicpVerdict::diverged ||
         correction.translation_m > setting_.max_correction_m ||
         correction.rotation_rad > setting_.max_correction_rad) {
       out.status = TrackingStatus::lost_diverged;
-    } else if (out.gicp.verdict == GicpVerdict::degenerate) {
+    } else if (out.gicp.verdict == GicpVerdict::degenerate && !out.prior_used) {
       out.status = TrackingStatus::lost_degenerate;
     } else if (out.gicp.inlier_ratio < setting_.min_inlier_ratio) {
       out.status = TrackingStatus::lost_low_inliers;
@@ -82,10 +123,18 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
     }
     out.pose_from_gicp = out.status == TrackingStatus::tracked;
     out.T_w_c = out.pose_from_gicp ? out.gicp.T_t_s : out.T_w_c_guess;
+    if (out.pose_from_gicp) {
+      // The prior's terms are already in GICP units: divide the whole posterior by the scale.
+      out.information = out.gicp.information_posterior / setting_.gicp_variance_scale;
+    }
     out.keyframe = out.pose_from_gicp &&
                    policy_.is_keyframe(out.gicp.overlap_ratio, keyframe_.T_w_c, out.T_w_c);
-    if (out.keyframe) make_keyframe(t_ns, out.T_w_c);
+    if (out.keyframe) {
+      out.moving_points = flag_moving(out.T_w_c);
+      make_keyframe(t_ns, out.T_w_c);
+    }
   }
+  prior_pending_ = false;
   T_w_prev_ = T_w_last_;
   t_prev_ns_ = t_last_ns_;
   T_w_last_ = out.T_w_c;

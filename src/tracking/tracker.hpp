@@ -39,6 +39,13 @@ struct TrackingOutput {
   TrackingStatus status = TrackingStatus::initialized;
   GicpResult gicp;
   DepthToPointsStats points;
+  bool prior_used = false;  ///< GICP had the caller's pose prior (fused tracking)
+  bool degenerate = false;  ///< GICP alone left a direction unconstrained (gicp.eigen_ratio)
+  /// Information of T_w_c in metric units for xi = [rotation (rad); translation (m)], the left
+  /// increment about the world origin (gicp.information / gicp_variance_scale, plus the prior's
+  /// when there was one). Zero when the pose is not from GICP.
+  Matrix6d information = Matrix6d::Zero();
+  int moving_points = 0;  ///< points of this keyframe flagged moving (0 for other frames)
 };
 
 class Tracker {
@@ -56,6 +63,13 @@ class Tracker {
     /// Member 1 of the tracker's worker team (more members: rt::worker_spec). Normal priority
     /// by default; the live pipeline passes the thread table's `tracker_w1` as rt: allows.
     rt::ThreadSpec worker{.name = "tracker_w1"};
+    /// The GICP cost's residuals are taken as this many times their modelled covariance
+    /// (dimensionless): metric information = GicpResult::information / gicp_variance_scale.
+    double gicp_variance_scale = 1.0;
+    /// Moving-point test at keyframes (see Keyframe::moving): a point is moving when it lies
+    /// more than this in front of the confirmed map's nearest surface along its pixel's ray.
+    /// 0 disables the test.
+    double moving_margin_m = 0.0;
   };
 
   Tracker(const PinholeCamera& camera, const Setting& setting,
@@ -72,6 +86,13 @@ class Tracker {
     return track(rgbd_view(t_ns, depth_m, rgb), T_w_c_imu);
   }
 
+  /// Fused tracking: the next track() adds a Gaussian prior on T_w_c to GICP's least squares,
+  /// mean `T_w_c_mean` and metric information `information` (of e = [phi; rho] as in
+  /// pose_prior.hpp: rad, m, about the world origin). Used once, by the next track() only.
+  /// With a prior, a frame GICP alone finds degenerate is still tracked (the prior holds the
+  /// weak directions) and flagged `degenerate`.
+  void set_pose_prior(const geometry::Pose& T_w_c_mean, const Matrix6d& information);
+
   /// The most recent keyframe (camera-frame Gaussians and T_w_c), for the mapper.
   [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }
   [[nodiscard]] const LocalMap& local_map() const { return map_; }
@@ -83,6 +104,7 @@ class Tracker {
  private:
   geometry::Pose guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu, bool& fell_back) const;
   void make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
+  int flag_moving(const geometry::Pose& T_w_c);
 
   Setting setting_;
   rt::WorkerTeam team_;
@@ -92,6 +114,10 @@ class Tracker {
   KeyframePolicy policy_;
   GaussianCloud cloud_;
   Keyframe keyframe_;
+  PinholeCamera camera_;
+  PosePrior prior_;
+  bool prior_pending_ = false;
+  std::vector<float> map_depth_;  ///< render_min_depth buffer (moving test)
   int frames_ = 0;
   geometry::Pose T_w_last_ = geometry::Pose::Identity();
   geometry::Pose T_w_prev_ = geometry::Pose::Identity();

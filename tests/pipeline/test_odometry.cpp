@@ -58,7 +58,7 @@ TEST_F(SimulatedOffice, LockstepReplayIsBitIdenticalRunToRun) {
   }
   // Every IMU sample up to the last frame was fed, none after it.
   EXPECT_EQ(a.imu_samples_fed, motion_.imu.size());
-  EXPECT_EQ(a.initial_pose, InitialPoseSource::ground_truth);
+  EXPECT_EQ(a.initial_pose, InitialPoseSource::gravity);  // the default: no ground truth
 }
 
 TEST_F(SimulatedOffice, ImuGuessTracksEveryFrameWithCentimetreAte) {

@@ -150,5 +150,80 @@ TEST(LocalMap, LeastRecentlySeenVoxelsGoFirstWhenFull) {
   EXPECT_LE(old_left, 56);
 }
 
+/// A static wall (re-observed by every keyframe) and a "person": a 0.4 m block that moves
+/// 0.5 m between keyframes, as a walker between two keyframes.
+GaussianCloud wall_and_person(unsigned seed, float person_x, std::size_t& person_begin) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  GaussianCloud c;
+  const auto add = [&c](const Eigen::Vector3f& p) {
+    c.points_m.push_back(p);
+    c.cov_m2.push_back(Eigen::Matrix3f::Identity() * 1e-3f);
+    c.cov_raw_m2.push_back(Eigen::Matrix3f::Identity() * 1e-4f);
+    c.colors_rgb.push_back({0, 0, 0});
+  };
+  for (int i = 0; i < 4000; ++i) add({-2.0f + 4.0f * u(rng), -1.0f + 2.0f * u(rng), 4.0f});
+  person_begin = c.size();
+  for (int i = 0; i < 400; ++i)
+    add({person_x + 0.4f * u(rng), -0.5f + 1.0f * u(rng), 2.0f + 0.3f * u(rng)});
+  return c;
+}
+
+TEST(LocalMap, OnlyReobservedPointsAreConfirmedAndMovingOnesArePruned) {
+  LocalMap::Setting s;
+  s.points_per_voxel = 64;
+  s.confirm_distance_m = 0.05;
+  s.confirm_keyframes = 2;
+  LocalMap map(s);
+  const geometry::Pose T = geometry::Pose::Identity();
+  std::size_t person = 0;
+  map.insert(wall_and_person(1, -1.0f, person), T);
+  EXPECT_EQ(map.num_confirmed(), 0u);
+  // Before any confirmation GICP may use every point (bootstrap).
+  std::uint32_t j = 0;
+  float d2 = 0.0f;
+  EXPECT_TRUE(map.nearest(Eigen::Vector3f(-0.8f, 0.0f, 2.15f), 0.01f, j, d2));
+  for (int k = 1; k <= 4; ++k) {
+    map.insert(wall_and_person(1 + k, -1.0f + 0.5f * k, person), T);
+  }
+  // The wall is confirmed; the person's old positions never were and were pruned.
+  EXPECT_GT(map.num_confirmed(), 3000u);
+  EXPECT_GT(map.pruned_points(), 700u);
+  // GICP's correspondences skip unconfirmed points: the person's current position (its
+  // latest, tentative points) gives no match, the wall does.
+  EXPECT_FALSE(map.nearest(Eigen::Vector3f(1.2f, 0.0f, 2.15f), 0.01f, j, d2));
+  EXPECT_TRUE(map.nearest(Eigen::Vector3f(0.0f, 0.0f, 3.98f), 0.01f, j, d2));
+  EXPECT_TRUE(map.confirmed(j));
+  // Without confirmation every point is used at once.
+  LocalMap::Setting off = s;
+  off.confirm_distance_m = 0.0;
+  LocalMap plain(off);
+  plain.insert(wall_and_person(9, 0.2f, person), T);
+  EXPECT_TRUE(plain.nearest(Eigen::Vector3f(0.4f, 0.0f, 2.15f), 0.01f, j, d2));
+  // The skip mask keeps flagged points out.
+  LocalMap masked(off);
+  const GaussianCloud c = wall_and_person(9, 0.2f, person);
+  std::vector<std::uint8_t> skip(c.size(), 0);
+  for (std::size_t i = person; i < c.size(); ++i) skip[i] = 1;
+  masked.insert(c, T, &skip);
+  EXPECT_EQ(masked.num_points(), person);
+  EXPECT_FALSE(masked.nearest(Eigen::Vector3f(0.4f, 0.0f, 2.15f), 0.01f, j, d2));
+}
+
+TEST(LocalMap, RenderMinDepthSeesTheNearestConfirmedSurface) {
+  LocalMap::Setting s;
+  s.points_per_voxel = 64;
+  LocalMap map(s);
+  std::size_t person = 0;
+  map.insert(wall_and_person(3, -1.0f, person), geometry::Pose::Identity());
+  PinholeCamera cam{64, 48, 40.0, 40.0, 32.0, 24.0};
+  std::vector<float> depth;
+  map.render_min_depth(cam, geometry::Pose::Identity(), 4, 16, 12, depth);
+  // Centre cell: the wall at 4 m; a cell covering the block: its front near 2 m.
+  EXPECT_NEAR(depth[6 * 16 + 8], 4.0f, 1e-3f);
+  const int u = static_cast<int>((40.0 * -0.8 / 2.1 + 32.0) / 4.0);
+  EXPECT_LT(depth[6 * 16 + u], 2.2f);
+}
+
 }  // namespace
 }  // namespace vigs::tracking

@@ -16,6 +16,11 @@ struct InertialSettings {
   double gyro_bias_max_step_rps = 0.005;      ///< clamp of one update
   double gyro_bias_max_rps = 0.2;             ///< clamp of the estimate's magnitude
   double gyro_bias_gate_deg = 5.0;            ///< skip updates whose residual is larger
+  // Fused mode (tracking.fusion: fused): the 15-state filter.
+  bool estimate_accel_bias = true;                   ///< estimate the accelerometer bias
+  double fused_initial_velocity_sigma_mps = 0.1;     ///< at the first frame (at rest)
+  double fused_initial_gyro_bias_sigma_rps = 0.01;   ///< prior sigma of the gyro bias
+  double fused_initial_accel_bias_sigma_mps2 = 0.1;  ///< prior sigma of the accel bias
 
   void visit(Visitor& v) {
     v.field("scheme", scheme, {"midpoint", "zoh"},
@@ -37,6 +42,14 @@ struct InertialSettings {
             {"rad/s", 0.0, 1.0, "largest gyro-bias magnitude the estimate may reach"});
     v.field("gyro_bias_gate_deg", gyro_bias_gate_deg,
             {"deg", 0.0, 180.0, "skip the update when IMU and GICP rotations differ more"});
+    v.field("estimate_accel_bias", estimate_accel_bias,
+            "fused tracking: estimate the accelerometer bias in the filter (false: held at 0)");
+    v.field("fused_initial_velocity_sigma_mps", fused_initial_velocity_sigma_mps,
+            {"m/s", 1e-6, 100.0, "fused tracking: velocity sigma at the first frame (at rest)"});
+    v.field("fused_initial_gyro_bias_sigma_rps", fused_initial_gyro_bias_sigma_rps,
+            {"rad/s", 1e-9, 10.0, "fused tracking: prior sigma of the gyro bias"});
+    v.field("fused_initial_accel_bias_sigma_mps2", fused_initial_accel_bias_sigma_mps2,
+            {"m/s^2", 1e-9, 100.0, "fused tracking: prior sigma of the accelerometer bias"});
   }
 };
 

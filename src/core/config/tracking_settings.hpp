@@ -21,7 +21,7 @@ struct TrackingSettings {
   std::string knn_search = "image_grid";              ///< image_grid | kdtree
   // GICP.
   double max_correspondence_distance_m = 0.1;  ///< farther nearest neighbours are outliers
-  std::string robust_kernel = "huber";         ///< none | huber | cauchy
+  std::string robust_kernel = "huber";         ///< none | huber | cauchy | geman_mcclure
   double robust_kernel_width = 0.5;            ///< on sqrt(d^T M d)
   int max_iterations = 30;
   double rotation_eps_deg = 0.1;    ///< converged when |d rotation| is below this ...
@@ -33,10 +33,17 @@ struct TrackingSettings {
   double keyframe_translation_m = 0.3;         ///< or when moved farther than this
   double keyframe_rotation_deg = 15.0;         ///< or turned more than this
   // Local map.
-  double local_map_voxel_m = 0.1;       ///< voxel edge of the local map hash
-  int local_map_points_per_voxel = 20;  ///< per-voxel capacity
-  int local_map_max_voxels = 16384;     ///< bound: max points = voxels * points per voxel
-  double local_map_radius_m = 6.0;      ///< voxels farther from the camera are evicted
+  double local_map_voxel_m = 0.1;             ///< voxel edge of the local map hash
+  int local_map_points_per_voxel = 20;        ///< per-voxel capacity
+  int local_map_max_voxels = 16384;           ///< bound: max points = voxels * points per voxel
+  double local_map_radius_m = 6.0;            ///< voxels farther from the camera are evicted
+  double local_map_confirm_distance_m = 0.0;  ///< re-observation distance confirming a point
+  int local_map_confirm_keyframes = 3;        ///< unconfirmed points dropped after this many
+  // Moving people.
+  double moving_margin_m = 0.0;  ///< keyframe point this far in front of the map: moving
+  // IMU/GICP fusion.
+  std::string fusion = "paper";      ///< fused | paper
+  double gicp_variance_scale = 1.0;  ///< GICP residuals: this many times their covariance
   // Initial guess and failure detection.
   std::string initial_guess = "imu";     ///< imu | constant_velocity | previous_pose
   double min_inlier_ratio = 0.3;         ///< below: tracking failure
@@ -60,8 +67,9 @@ struct TrackingSettings {
             "uncertified) or a kd-tree");
     v.field("max_correspondence_distance_m", max_correspondence_distance_m,
             {"m", 1e-4, 100.0, "nearest neighbours farther than this are outliers"});
-    v.field("robust_kernel", robust_kernel, {"none", "huber", "cauchy"},
-            "robust kernel on the Mahalanobis distance");
+    v.field("robust_kernel", robust_kernel, {"none", "huber", "cauchy", "geman_mcclure"},
+            "robust kernel on the Mahalanobis distance (geman_mcclure: bounded, for moving "
+            "people)");
     v.field("robust_kernel_width", robust_kernel_width,
             {"-", 1e-6, 1e6, "kernel width on sqrt(d^T M d)"});
     v.field("max_iterations", max_iterations, {"-", 1, 1000, "GICP iterations"});
@@ -88,6 +96,24 @@ struct TrackingSettings {
             {"-", 16, 4194304, "local-map voxel capacity; least recently seen evicted beyond"});
     v.field("local_map_radius_m", local_map_radius_m,
             {"m", 0.1, 1000.0, "local-map voxels farther than this from the camera are evicted"});
+    v.field("local_map_confirm_distance_m", local_map_confirm_distance_m,
+            {"m", 0.0, 1.0,
+             "a map point is used by GICP once a later keyframe has a point this close "
+             "(moving people are not re-observed in place); 0 = every point at once"});
+    v.field("local_map_confirm_keyframes", local_map_confirm_keyframes,
+            {"keyframes", 1, 1000, "unconfirmed local-map points are dropped after this many"});
+    v.field("moving_margin_m", moving_margin_m,
+            {"m", 0.0, 10.0,
+             "keyframe points this far in front of the local map's surface along their ray "
+             "are moving (not inserted, flagged for the mapper); 0 = off"});
+    v.field("fusion", fusion, {"fused", "paper"},
+            "imu guess: fused = the IMU prediction and its covariance are a prior factor in "
+            "GICP and a 15-state filter (pose, velocity, gyro and accel bias) is updated from "
+            "the result; paper = IMU guess, then reset from GICP (VIGS)");
+    v.field("gicp_variance_scale", gicp_variance_scale,
+            {"-", 1e-9, 1e9,
+             "GICP residuals are this many times their modelled covariance: metric "
+             "information = GICP Hessian / scale (fusion weight and exported covariance)"});
     v.field("initial_guess", initial_guess, {"imu", "constant_velocity", "previous_pose"},
             "GICP initial guess");
     v.field("min_inlier_ratio", min_inlier_ratio,

@@ -1,0 +1,92 @@
+#pragma once
+// Error-state algebra of the fused IMU/GICP estimator (tracking.fusion: fused): a 15-state
+// error x = [dtheta, dp, dv, dbg, dba] of the body state (R, p, v) and the two biases, with the
+// rotation error on the LEFT in the world frame (R = Exp(dtheta) R_hat) and additive errors
+// otherwise, propagated over one preintegrated interval and updated from a camera pose.
+//
+// Prediction over [i, j] (nav_state.hpp, Forster et al. eq. 33) at the filter's biases, with
+// the preintegration's right rotation error dphi (dR_true = dR Exp(dphi)) and its bias Jacobians:
+//   dtheta_j = dtheta_i + R_j (J_Rg dbg + dphi)                                  (R_j = R_i dR)
+//   dv_j     = dv_i - [R_i dv]x dtheta_i + R_i (J_vg dbg + J_va dba + ddv)
+//   dp_j     = dp_i + dt dv_i - [R_i dp]x dtheta_i + R_i (J_pg dbg + J_pa dba + ddp)
+//   dbg_j = dbg_i, dba_j = dba_i (plus their random walks).
+// x_j = Phi x_i + G n, n = [dphi, ddv, ddp] with the preintegration covariance.
+//
+// A camera pose T_w_c = T_w_b T_b_c perturbed as the tracker's pose prior is
+// (tracking/pose_prior.hpp: T = Exp(e) T_hat, e = [phi; rho] about the world origin) shares the
+// body's world twist: e = [dtheta; dp + [p_b]x dtheta] (camera_pose_jacobian). Every Jacobian
+// here is checked by central differences in tests/inertial/test_state_propagation.cpp.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "core/geometry/so3.hpp"
+#include "inertial/nav_state.hpp"
+#include "inertial/preintegrator.hpp"
+
+namespace vigs::inertial {
+
+using Mat15 = Eigen::Matrix<double, 15, 15>;
+using Mat15x9 = Eigen::Matrix<double, 15, 9>;
+using Mat6x15 = Eigen::Matrix<double, 6, 15>;
+using Mat15x6 = Eigen::Matrix<double, 15, 6>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec15 = Eigen::Matrix<double, 15, 1>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+/// Phi and G of the prediction from state `s_i` over the interval `pi` (whose linearisation
+/// biases are the filter's, so the increments need no bias correction).
+inline void prediction_jacobians(const NavState& s_i, const Preintegrator& pi, Mat15& Phi,
+                                 Mat15x9& G) {
+  const DeltaState d = pi.delta();
+  const Eigen::Matrix3d& R = s_i.R_w_b;
+  const Eigen::Matrix3d Rj = R * d.R;
+  Phi.setIdentity();
+  G.setZero();
+  // rows: 0 dtheta, 3 dp, 6 dv, 9 dbg, 12 dba
+  Phi.block<3, 3>(0, 9) = Rj * pi.dR_dbg();
+  Phi.block<3, 3>(3, 0) = -geometry::hat<double>(Eigen::Vector3d(R * d.p_m));
+  Phi.block<3, 3>(3, 6) = d.dt_s * Eigen::Matrix3d::Identity();
+  Phi.block<3, 3>(3, 9) = R * pi.dp_dbg();
+  Phi.block<3, 3>(3, 12) = R * pi.dp_dba();
+  Phi.block<3, 3>(6, 0) = -geometry::hat<double>(Eigen::Vector3d(R * d.v_mps));
+  Phi.block<3, 3>(6, 9) = R * pi.dv_dbg();
+  Phi.block<3, 3>(6, 12) = R * pi.dv_dba();
+  // noise columns: 0 dphi, 3 ddv, 6 ddp (the preintegrator's order)
+  G.block<3, 3>(0, 0) = Rj;
+  G.block<3, 3>(6, 3) = R;
+  G.block<3, 3>(3, 6) = R;
+}
+
+/// de/dx of the camera pose (e about the world origin, rotation first) for body position p_b.
+inline Mat6x15 camera_pose_jacobian(const Eigen::Vector3d& p_w_b) {
+  Mat6x15 J = Mat6x15::Zero();
+  J.block<3, 3>(0, 0).setIdentity();
+  J.block<3, 3>(3, 0) = geometry::hat<double>(p_w_b);
+  J.block<3, 3>(3, 3).setIdentity();
+  return J;
+}
+
+/// Kalman update from a fused pose: the caller's estimate minimised GICP's cost plus the prior
+/// (mean at J x = 0, covariance P_pose = J P J^T); `e_star` is its e relative to the prior's
+/// mean and `Y` its posterior information (prior + GICP). Since the pose estimate equals the
+/// conditional mean given GICP's measurement, the whole state moves by
+///   dx = P J^T P_pose^-1 e*,  P+ = P - P J^T S^-1 J P,  S^-1 = (P_pose + H_gicp^-1)^-1
+///                                                        = L - L Y^-1 L  (L = P_pose^-1),
+/// which never inverts GICP's own (possibly singular) information. Returns false (nothing
+/// changed) when P_pose or Y is not positive definite.
+inline bool fused_pose_update(const Mat6x15& J, const Vec6& e_star, const Mat6& Y, Mat15& P,
+                              Vec15& dx) {
+  const Mat15x6 PJt = P * J.transpose();
+  const Mat6 P_pose = J * PJt;
+  const Eigen::LLT<Mat6> llt_p(P_pose);
+  const Eigen::LLT<Mat6> llt_y(Y);
+  if (llt_p.info() != Eigen::Success || llt_y.info() != Eigen::Success) return false;
+  const Mat6 L = llt_p.solve(Mat6::Identity());
+  const Mat6 S_inv = L - L * llt_y.solve(L);
+  dx = PJt * (L * e_star);
+  Mat15 P_new = P - PJt * S_inv * PJt.transpose();
+  P = 0.5 * (P_new + P_new.transpose());
+  return dx.allFinite() && P.allFinite();
+}
+
+}  // namespace vigs::inertial
