@@ -187,6 +187,11 @@ int run_record(const RecordOptions& o) {
     << ", \"serial_chunks\": " << s.serial_chunks << ", \"serial_bytes\": " << s.serial_bytes
     << ", \"edges\": " << s.edges << ", \"chunks\": " << s.chunks
     << ", \"bytes\": " << s.bytes_written << ", \"tap_drops\": " << total_drops;
+  if (imu) {
+    const drivers::SerialImuFaults f = imu->faults();
+    j << ", \"imu_driver_samples\": " << f.samples_out
+      << ", \"serial_bytes_read\": " << f.bytes_read;
+  }
   if (openni2) {
     j << ", \"camera_fault\": " << json_string(std::string(drivers::to_string(openni2->fault())));
   }
