@@ -190,6 +190,11 @@ int run_record(const RecordOptions& o) {
              {"chunks", s.chunks},
              {"bytes", s.bytes_written},
              {"tap_drops", total_drops}};
+  if (imu) {
+    const drivers::SerialImuFaults f = imu->faults();
+    j["imu_driver_samples"] = f.samples_out;
+    j["serial_bytes_read"] = f.bytes_read;
+  }
   if (openni2) j["camera_fault"] = std::string(drivers::to_string(openni2->fault()));
   j["signal"] = g_stop_signal.load();
   std::cout << io::json_line(j) << "\n";
