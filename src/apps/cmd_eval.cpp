@@ -47,6 +47,22 @@ eval::Trajectory load_gt(const EvalArgs& a) {
   return gt;
 }
 
+/// The tool's JSON object with "input_damage": {"gt", "est"} added (null each when intact), and
+/// a warning on stderr for each damaged recording: damage is never silent.
+std::string with_input_damage(std::string json, const eval::Trajectory& gt,
+                              const eval::Trajectory& est) {
+  for (const eval::Trajectory* t : {&gt, &est}) {
+    if (t->damage.damaged())
+      std::cerr << "vigs eval: " << io::mcap::damage_warning(t->damage, eval::poses_used(*t))
+                << "\n";
+  }
+  if (json.empty() || json.back() != '}') return json;
+  json.pop_back();
+  return json + ", \"input_damage\": {\"gt\": " +
+         io::mcap::damage_json(gt.damage, eval::poses_used(gt)) +
+         ", \"est\": " + io::mcap::damage_json(est.damage, eval::poses_used(est)) + "}}";
+}
+
 /// Runs `body`, turning input errors into a message on stderr and exit code 1.
 template <class Body>
 void guarded(ExitCode& exit_code, Body&& body) {
@@ -94,7 +110,8 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       opt.max_dt_s = a.max_dt_s;
       const auto gt = load_gt(a);
       const auto est = eval::load_any_trajectory(a.est, a.topic);
-      std::cout << eval::ate_json(eval::compute_ate(gt, est, opt), opt) << "\n";
+      std::cout << with_input_damage(eval::ate_json(eval::compute_ate(gt, est, opt), opt), gt, est)
+                << "\n";
     });
   });
 
@@ -117,7 +134,8 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       opt.align = a.align == "sim3" ? eval::Alignment::kSim3 : eval::Alignment::kNone;
       const auto gt = load_gt(a);
       const auto est = eval::load_any_trajectory(a.est, a.topic);
-      std::cout << eval::rpe_json(eval::compute_rpe(gt, est, opt), opt) << "\n";
+      std::cout << with_input_damage(eval::rpe_json(eval::compute_rpe(gt, est, opt), opt), gt, est)
+                << "\n";
     });
   });
 

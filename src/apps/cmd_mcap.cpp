@@ -156,9 +156,14 @@ void add_mcap_command(CLI::App& app, ExitCode& exit_code) {
   oni->callback([&exit_code] {
     try {
       const auto r = io::oni::make_oni_from_mcap(in, out, oni_options);
+      const std::string used = std::to_string(r.frames) + " frame pairs up to stamp " +
+                               std::to_string(r.last_stamp_ns) + " ns";
+      if (r.damage.damaged())
+        std::cerr << "vigs mcap oni: " << io::mcap::damage_warning(r.damage, used) << "\n";
       std::cout << "{\"oni\": " << json_string(out) << ", \"frames\": " << r.frames
                 << ", \"unmatched\": " << r.unmatched << ", \"fps\": " << r.fps
-                << ", \"width\": " << r.width << ", \"height\": " << r.height << "}\n";
+                << ", \"width\": " << r.width << ", \"height\": " << r.height
+                << ", \"input_damage\": " << io::mcap::damage_json(r.damage, used) << "}\n";
     } catch (const io::IoError& e) {
       std::cerr << e.what() << "\n";
       exit_code.value = 1;

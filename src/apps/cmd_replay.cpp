@@ -11,6 +11,7 @@
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
+#include "io/output_guard.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/results_writer.hpp"
 
@@ -21,8 +22,16 @@ struct ReplayArgs {
   std::string recording, out, config_file, guess;
   std::int64_t frames = 0;
   int map_iterations = 0;
-  bool quiet = false;
+  bool quiet = false, allow_truncated = false;
 };
+
+/// What a replay of a damaged recording used, for stderr and stats.json.
+std::string used_of(const pipeline::ReplayResult& r) {
+  return std::to_string(r.frames.size()) + " frames" +
+         (r.frames.empty() ? std::string()
+                           : " up to t = " + std::to_string(r.frames.back().t_ns * 1e-9) + " s") +
+         " and " + std::to_string(r.imu_samples) + " IMU samples";
+}
 
 std::string count(long v) {
   return json_number(static_cast<double>(v));
@@ -57,6 +66,7 @@ std::string stats_json(const pipeline::ReplayResult& r, const std::string& recor
   add("imu_samples", count(static_cast<long>(r.imu_samples)));
   add("imu_samples_fed", count(static_cast<long>(r.imu_samples_fed)));
   add("frames_without_depth", count(static_cast<long>(r.frames_without_depth)));
+  add("input_damage", io::mcap::damage_json(r.damage, used_of(r)));
   if (r.map) {
     add("gaussians", count(static_cast<long>(r.map->size())));
     add("map_iterations", count(r.map_iterations));
@@ -89,9 +99,13 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--map-iterations", a.map_iterations,
                   "build map.ply: mapper iterations after every frame (0 = no map)")
       ->check(CLI::Range(0, 1000));
+  cmd->add_flag("--allow-truncated", a.allow_truncated,
+                "replay the intact part of a damaged (truncated, corrupt) recording instead of "
+                "refusing it; stderr and stats.json input_damage say what was used");
   cmd->add_flag("--quiet", a.quiet, "no progress on stderr");
   cmd->callback([&exit_code] {
     try {
+      io::refuse_output_dir_over_inputs(a.out, {a.recording, a.config_file});
       const config::RobotConfig cfg =
           a.config_file.empty() ? config::load_config_text(config::default_config_text(),
                                                            std::string(config::kDefaultConfigName))
@@ -100,6 +114,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       if (!a.guess.empty()) opt.guess = tracking::initial_guess_from_string(a.guess);
       opt.max_frames = a.frames;
       opt.map_iterations_per_frame = a.map_iterations;
+      opt.allow_damaged = a.allow_truncated;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;
         if (++n % 100 == 0)
@@ -109,6 +124,8 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       const pipeline::ReplayResult r =
           a.quiet ? pipeline::replay_recording(a.recording, cfg, opt)
                   : pipeline::replay_recording(a.recording, cfg, opt, progress);
+      if (r.damage.damaged())
+        std::cerr << "vigs replay: " << io::mcap::damage_warning(r.damage, used_of(r)) << "\n";
       const std::string stats = stats_json(r, a.recording);
       pipeline::write_results_dir(a.out, r, stats);
       std::printf("{\"out\": %s, \"stats\": %s}\n", json_string(a.out).c_str(), stats.c_str());

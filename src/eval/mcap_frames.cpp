@@ -6,24 +6,29 @@
 #include <stdexcept>
 
 #include "io/io_error.hpp"
+#include "io/mcap/damage_report.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
+#include "io/ros_msgs/message_checks.hpp"
 #include "io/ros_msgs/typed_io.hpp"
 
 namespace vigs::eval {
 namespace {
 
 /// Gives the pending frame its depth when stamp and size match and the encoding is known.
-void attach_depth(const io::ros_msgs::Image& img, bool pending, RecordedFrame& f) {
+/// A depth image of the frame's stamp and size whose step or data do not hold it is an error.
+void attach_depth(const io::ros_msgs::Image& img, bool pending, RecordedFrame& f,
+                  const std::string& where) {
   if (!pending) return;
   if (static_cast<double>(img.header.stamp.to_ns()) * 1e-9 != f.t_s) return;
-  const int w = static_cast<int>(img.width), h = static_cast<int>(img.height);
-  if (w != f.rgb.width || h != f.rgb.height || img.is_bigendian) return;
-  const int bytes = img.encoding == "16UC1" ? 2 : img.encoding == "32FC1" ? 4 : 0;
-  if (bytes == 0 || img.step < static_cast<std::uint32_t>(w * bytes) ||
-      img.data.size() < static_cast<std::size_t>(img.step) * static_cast<std::size_t>(h))
+  if (img.width != static_cast<std::uint32_t>(f.rgb.width) ||
+      img.height != static_cast<std::uint32_t>(f.rgb.height) || img.is_bigendian)
     return;
+  const int w = f.rgb.width, h = f.rgb.height;
+  const int bytes = img.encoding == "16UC1" ? 2 : img.encoding == "32FC1" ? 4 : 0;
+  if (bytes == 0) return;
+  io::ros_msgs::check_image(where, img, static_cast<std::uint64_t>(bytes));
   f.depth_m = io::ImageF32(w, h, 1);
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* row = img.data.data() + static_cast<std::size_t>(y) * img.step;
@@ -62,14 +67,15 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
     fn(f);
   };
   std::uint64_t index = 0;
-  const auto where = [&](const std::string& what) {
-    return std::runtime_error(path + ": " + m.channel->topic + " message at byte " +
-                              std::to_string(m.record_offset) + ": " + what);
+  const auto record = [&] {
+    return path + ": " + m.channel->topic + " message at byte " + std::to_string(m.record_offset);
   };
+  const auto where = [&](const std::string& what) { return std::runtime_error(record() + ": " + what); };
   while (reader.next(m)) {
     try {
       if (m.channel->topic == info_topic) {
         if (!io::ros_msgs::decode_message(m, info)) throw where("not sensor_msgs/CameraInfo");
+        io::ros_msgs::check_camera_info(record(), info);
         camera = PinholeCamera{static_cast<int>(info.width),
                                static_cast<int>(info.height),
                                info.k[0],
@@ -80,7 +86,7 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
       }
       if (!io::ros_msgs::decode_message(m, img)) throw where("not sensor_msgs/Image");
       if (m.channel->topic == depth_topic) {
-        attach_depth(img, pending, f);
+        attach_depth(img, pending, f, record());
         flush();
         continue;
       }
@@ -98,14 +104,15 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
                                                                         : 0;
     if (ch == 0)
       throw where("colour encoding '" + img.encoding + "' (rgb8, bgr8 or mono8 expected)");
-    const int w = static_cast<int>(img.width), h = static_cast<int>(img.height);
-    if (w != camera->width_px || h != camera->height_px)
-      throw where("image is " + std::to_string(w) + "x" + std::to_string(h) +
+    if (img.width != static_cast<std::uint32_t>(camera->width_px) ||
+        img.height != static_cast<std::uint32_t>(camera->height_px))
+      throw where("image is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
                   " but its CameraInfo says " + std::to_string(camera->width_px) + "x" +
                   std::to_string(camera->height_px));
-    if (img.step < static_cast<std::uint32_t>(w * ch) ||
-        img.data.size() < static_cast<std::size_t>(img.step) * static_cast<std::size_t>(h))
-      throw where("image data shorter than step x height");
+    // 64-bit checks of width x channels, step x height against the data (the CameraInfo sizes
+    // are range-checked already).
+    io::ros_msgs::check_image(record(), img, static_cast<std::uint64_t>(ch));
+    const int w = camera->width_px, h = camera->height_px;
     f.index = i;
     f.t_s = static_cast<double>(img.header.stamp.to_ns()) * 1e-9;
     f.camera = *camera;
@@ -123,6 +130,7 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
     pending = true;
   }
   flush();
+  st.damage = io::mcap::damage_of(reader);
   return st;
 }
 

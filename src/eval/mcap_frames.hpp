@@ -11,6 +11,7 @@
 
 #include "core/types/pinhole_camera.hpp"
 #include "io/image.hpp"
+#include "io/mcap/damage_report.hpp"
 
 namespace vigs::eval {
 
@@ -29,12 +30,17 @@ struct RecordedFrame {
 struct McapFrameStats {
   std::uint64_t frames = 0;               ///< colour messages delivered
   std::uint64_t without_camera_info = 0;  ///< colour messages skipped: no CameraInfo yet
+  /// Damage the reader found; the frames delivered are those of the intact part. The caller
+  /// reports it (or refuses the file).
+  io::mcap::DamageReport damage;
 };
 
 /// Calls `fn` for every colour frame in file order. Throws io::IoError when the file cannot be
 /// opened, and
 /// std::runtime_error naming the file and byte offset on undecodable messages, an unsupported
-/// encoding or an image whose size differs from its CameraInfo.
+/// encoding or an image whose size differs from its CameraInfo; io::IoError naming the record
+/// and field on a CameraInfo out of range (size, non-finite K, fx or fy <= 0) or an image whose
+/// step or data cannot hold its width x height (checked in 64 bits).
 McapFrameStats for_each_recorded_frame(const std::string& path,
                                        const std::function<void(const RecordedFrame&)>& fn,
                                        const std::string& rgb_topic = kRgbTopic,

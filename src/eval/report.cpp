@@ -219,6 +219,11 @@ ReportResult write_report(const ReportOptions& opt) {
   }
   const Trajectory est = load_trajectory_file(est_path);
   ReportResult r;
+  r.input_damage = gt.damage;
+  if (gt.damage.damaged()) {
+    r.input_damage_used = poses_used(gt);
+    r.warnings.push_back(io::mcap::damage_warning(gt.damage, r.input_damage_used));
+  }
   r.ate = compute_ate(gt, est, opt.ate);
   RpeOptions rf;
   rf.max_dt_s = opt.ate.max_dt_s;
@@ -237,6 +242,11 @@ ReportResult write_report(const ReportOptions& opt) {
   std::string map_sections;
   std::vector<std::string> not_measured;
   measure_map_and_run(opt, est, r, map_sections, not_measured);
+  if (r.quality_measured && r.quality.damage.damaged() && !r.input_damage.damaged()) {
+    r.input_damage = r.quality.damage;
+    r.input_damage_used = std::to_string(r.quality.recorded_frames) + " recorded frames";
+    r.warnings.push_back(io::mcap::damage_warning(r.input_damage, r.input_damage_used));
+  }
 
   std::string md = "# VIGS evaluation report\n\n";
   md += "- results: `" + opt.results_dir + "`\n- estimate: `" + est_path + "` (" +
@@ -333,6 +343,7 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
     json += ", \"quality\": null";
   }
   json += ", \"gaussians\": " + (r.gaussians >= 0 ? std::to_string(r.gaussians) : "null");
+  json += ", \"input_damage\": " + io::mcap::damage_json(r.input_damage, r.input_damage_used);
   json += ", \"fps\": " + opt_json(r.run_stats.fps) +
           ", \"peak_rss_bytes\": " + opt_json(r.run_stats.peak_rss_bytes) + ", \"lpips\": null}";
   return json;

@@ -56,6 +56,9 @@ struct ReplayOptions {
   int map_iterations_per_frame = 0;
   std::string imu_topic = kImuTopic;
   std::string pose_topic = kBodyPoseTopic;
+  /// Replay the intact part of a damaged recording (ReplayResult::damage says what was found)
+  /// instead of refusing it.
+  bool allow_damaged = false;
 };
 
 struct ReplayResult {
@@ -67,6 +70,7 @@ struct ReplayResult {
   std::size_t imu_samples = 0;            ///< in the recording
   std::size_t imu_samples_fed = 0;        ///< fed before the last replayed frame
   std::int64_t frames_without_depth = 0;  ///< tracked with an all-invalid depth image
+  io::mcap::DamageReport damage;          ///< with allow_damaged: what the readers found
   double wall_s = 0.0;                    ///< whole replay: reading, decoding, tracking
   double track_s = 0.0;                   ///< inside Odometry::track only
   /// The map after the last frame's mapper tick (null without mapping).
