@@ -70,7 +70,9 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
   const auto record = [&] {
     return path + ": " + m.channel->topic + " message at byte " + std::to_string(m.record_offset);
   };
-  const auto where = [&](const std::string& what) { return std::runtime_error(record() + ": " + what); };
+  const auto where = [&](const std::string& what) {
+    return std::runtime_error(record() + ": " + what);
+  };
   while (reader.next(m)) {
     try {
       if (m.channel->topic == info_topic) {

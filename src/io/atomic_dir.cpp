@@ -68,8 +68,8 @@ void replace_dir_atomically(const std::string& dir, const std::string& marker_fi
   if (rc != 0) {
     const int err = errno;
     fs::remove_all(tmp, ec);
-    throw IoError(dir + ": cannot move the new folder " + tmp.string() + " into place: " +
-                  std::strerror(err));
+    throw IoError(dir + ": cannot move the new folder " + tmp.string() +
+                  " into place: " + std::strerror(err));
   }
   fsync_dir(parent);
   if (exists) fs::remove_all(tmp, ec);  // the old contents, now under the temporary name

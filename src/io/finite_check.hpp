@@ -14,7 +14,10 @@ namespace vigs::io {
 inline double require_finite(const std::string& where, const char* field, double value) {
   if (!std::isfinite(value)) {
     throw IoError(where + ": " + field + " is not finite (" +
-                  (std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf") + ")");
+                  (std::isnan(value) ? "nan"
+                   : value > 0       ? "inf"
+                                     : "-inf") +
+                  ")");
   }
   return value;
 }

@@ -47,8 +47,8 @@ void refuse_output_dir_over_inputs(const std::string& dir, const std::vector<std
     for (bool first = true;; first = false) {
       FileId id;
       if (file_id(p.string(), id) && id == out) {
-        throw IoError(dir + ": output folder " + (first ? "is" : "contains") + " the input " +
-                      in + "; refusing to replace it");
+        throw IoError(dir + ": output folder " + (first ? "is" : "contains") + " the input " + in +
+                      "; refusing to replace it");
       }
       if (!p.has_relative_path()) break;
       p = p.parent_path();

@@ -33,8 +33,7 @@ inline void check_camera_info(const std::string& where, const CameraInfo& info) 
 inline std::uint64_t check_image(const std::string& where, const Image& img,
                                  std::uint64_t bytes_per_px) {
   if (img.is_bigendian && bytes_per_px > 1) throw IoError(where + ": is_bigendian is not 0");
-  return check_image_layout(where, img.width, img.height, bytes_per_px, img.step,
-                            img.data.size());
+  return check_image_layout(where, img.width, img.height, bytes_per_px, img.step, img.data.size());
 }
 
 }  // namespace vigs::io::ros_msgs
