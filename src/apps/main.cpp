@@ -12,8 +12,8 @@ namespace {
 /// Failed writes are errors: a report lost to a full disk or /dev/full must not exit 0. Every
 /// command prints through stdout (std::cout is synced with it), so one check covers them all.
 int checked_exit(int code) {
-  std::cout.flush();
   errno = 0;
+  std::cout.flush();
   if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
     std::fprintf(stderr, "vigs: cannot write standard output: %s\n",
                  errno != 0 ? std::strerror(errno) : "write error");

@@ -94,7 +94,7 @@ TEST(HostileYaml, MillionElementListIsAClearError) {
   const VigsRun r = vigs(dir, "config check " + dir.file("huge.yaml"));
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find("huge.yaml"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("a robot configuration is at most 1048576 bytes"), std::string::npos)
+  EXPECT_NE(r.err.find("a robot configuration is at most 262144 bytes"), std::string::npos)
       << r.err;
 }
 

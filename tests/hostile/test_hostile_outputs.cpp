@@ -23,7 +23,7 @@ TEST(OutputGuard, RefusesTheSameInodeThroughLinksAndDots) {
   write_text(in, "input");
   fs::create_symlink(in, dir.file("link.txt"));
   fs::create_hard_link(in, dir.file("hard.txt"));
-  for (const std::string out :
+  for (const std::string& out :
        {in, dir.file("./in.txt"), dir.file("link.txt"), dir.file("hard.txt")}) {
     EXPECT_THROW(io::refuse_output_over_inputs(out, {dir.file("other"), in}), io::IoError) << out;
   }
@@ -147,10 +147,10 @@ TEST(FailedWrites, StdoutToDevFullExitsOne) {
 
 TEST(FiniteFlags, NanAndInfNumbersAreUsageErrors) {
   TempDir dir;
-  for (const std::string args :
-       {"simulate --seconds nan --out " + dir.file("a.mcap"),
-        "simulate --seconds inf --out " + dir.file("a.mcap"),
-        "eval ate --gt x --est y --max-dt nan", "imu play x.csv --delay nan"}) {
+  for (const std::string& args : {"simulate --seconds nan --out " + dir.file("a.mcap"),
+                                  "simulate --seconds inf --out " + dir.file("a.mcap"),
+                                  std::string("eval ate --gt x --est y --max-dt nan"),
+                                  std::string("imu play x.csv --delay nan")}) {
     const VigsRun r = vigs(dir, args);
     EXPECT_EQ(r.status, 1) << args << "\n" << r.err;
     EXPECT_FALSE(fs::exists(dir.file("a.mcap")));

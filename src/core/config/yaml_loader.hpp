@@ -17,7 +17,7 @@ namespace vigs::config {
 RobotConfig load_config_text(std::string_view yaml_text, const std::string& file_name);
 
 /// The largest robot YAML accepted, bytes.
-inline constexpr std::size_t kMaxConfigBytes = 1u << 20;
+inline constexpr std::size_t kMaxConfigBytes = 1u << 18;
 
 /// Reads `path` and loads it; an unreadable file or one larger than kMaxConfigBytes is a
 /// ConfigError naming the path.
