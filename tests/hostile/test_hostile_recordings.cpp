@@ -257,5 +257,21 @@ TEST_F(SimulatedRecording, ReplayRefusesATruncatedCopyUnlessAllowTruncated) {
   EXPECT_NE(stats.find("\"input_damage\": {\"issues\": "), std::string::npos) << stats;
 }
 
+TEST_F(SimulatedRecording, ReplayIntoAReusedFolderLeavesNoStaleFile) {
+  const std::string rec = dir_->file("sim.mcap"), out = dir_->file("reused");
+  ASSERT_TRUE(std::filesystem::exists(rec));
+  std::filesystem::create_directories(out + "/plots");
+  for (const char* name : {"trajectory.tum", "map.ply", "report.md", "plots/ate.png"})
+    write_text(out + "/" + name, "stale");
+  const VigsRun r = vigs(*dir_, "replay " + rec + " --config " + dir_->file("small.yaml") +
+                                    " --frames 3 --quiet --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(read_text(out + "/trajectory.tum"), "stale");
+  for (const char* name : {"map.ply", "report.md", "plots"})
+    EXPECT_FALSE(std::filesystem::exists(out + "/" + name)) << name;
+  for (const auto& e : std::filesystem::directory_iterator(dir_->path()))
+    EXPECT_EQ(e.path().filename().string().find(".reused.tmp-"), std::string::npos) << e.path();
+}
+
 }  // namespace
 }  // namespace vigs::hostile
