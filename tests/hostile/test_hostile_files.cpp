@@ -94,8 +94,7 @@ TEST(HostileYaml, MillionElementListIsAClearError) {
   const VigsRun r = vigs(dir, "config check " + dir.file("huge.yaml"));
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find("huge.yaml"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("file is larger than 262144 bytes"), std::string::npos)
-      << r.err;
+  EXPECT_NE(r.err.find("file is larger than 262144 bytes"), std::string::npos) << r.err;
 }
 
 TEST(HostileImuCsv, StampGapBeyondMaxGapIsAnErrorNotAnHourOfSleep) {
