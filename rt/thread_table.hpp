@@ -61,7 +61,12 @@ struct ThreadSpec {
   std::int64_t period_ns = 0;   // > 0: a PeriodicTask with this period; 0: aperiodic (event driven)
 };
 
-inline constexpr std::array<ThreadSpec, 7> kThreadTable{{
+// Worker teams (rt/worker_team.hpp): an entry `<task>_w1` is member 1 of `<task>`'s team (the
+// task's own thread is member 0). On the 2-core target a team has two members, so `tracker_w1`
+// takes the tracker's priority on the CPU the tracker does not use: it runs the other half of
+// each parallel region, preempted only by the drivers. Members beyond 1 (more tracking.num_threads
+// or mapping.threads than CPUs) are named `<task>_w<m>`, with the same priority and no pinning.
+inline constexpr std::array<ThreadSpec, 9> kThreadTable{{
     // Edge stamps from the GPIO frame-sync line; wakes on each line event.
     {.name = "gpio_trigger", .sched_fifo_priority = 85, .cpu = 0, .period_ns = 0},
     // Serial IMU: termios reads, parses samples, pushes ImuSample (up to 1 kHz).
@@ -70,8 +75,12 @@ inline constexpr std::array<ThreadSpec, 7> kThreadTable{{
     {.name = "rgbd_driver", .sched_fifo_priority = 75, .cpu = 0, .period_ns = 0},
     // Fixed rate = camera rate (20 Hz): preintegrate, GICP, pose out, keyframe decision.
     {.name = "tracker", .sched_fifo_priority = 60, .cpu = 1, .period_ns = ms_to_ns(50)},
+    // The tracker's worker team member 1: preprocessing (kNN covariances) and GICP linearisation.
+    {.name = "tracker_w1", .sched_fifo_priority = 60, .cpu = 0, .period_ns = 0},
     // Gaussian map: insert keyframes, N optimisation iterations per tick, prune.
     {.name = "mapper", .sched_fifo_priority = 0, .cpu = -1, .period_ns = ms_to_ns(100)},
+    // The mapper's worker team member 1: rasterizer tiles, SSIM rows.
+    {.name = "mapper_w1", .sched_fifo_priority = 0, .cpu = -1, .period_ns = 0},
     // Drains the pose ring and publishes on DDS (not real-time safe: SCHED_OTHER). 100 Hz polling
     // adds at most 10 ms to a 20 Hz pose.
     {.name = "dds_pub", .sched_fifo_priority = 0, .cpu = 0, .period_ns = ms_to_ns(10)},
@@ -106,10 +115,41 @@ constexpr bool thread_table_valid() {
 }
 }  // namespace detail
 static_assert(detail::thread_table_valid(), "thread names unique, priorities 0..98, cpu >= -1");
+namespace detail {
+// Every `<task>_w1` entry belongs to a table entry `<task>`, is aperiodic (it runs when its task
+// dispatches), has its task's priority (a lower one would let the drivers' CPU starve half of the
+// task's parallel regions; a higher one would preempt the task's own drivers) and, when both are
+// pinned, sits on another CPU (two members on one CPU only take turns).
+constexpr bool worker_entries_valid() {
+  for (const ThreadSpec& w : kThreadTable) {
+    const std::string_view name = w.name.view();
+    if (name.size() < 4 || name.substr(name.size() - 3) != "_w1") continue;
+    const ThreadSpec* task = find_thread_spec(name.substr(0, name.size() - 3));
+    if (task == nullptr || w.period_ns != 0) return false;
+    if (w.sched_fifo_priority != task->sched_fifo_priority) return false;
+    if (w.cpu >= 0 && task->cpu >= 0 && w.cpu == task->cpu) return false;
+  }
+  return true;
+}
+}  // namespace detail
+static_assert(detail::worker_entries_valid(),
+              "each <task>_w1 worker has a <task> entry, its priority and another CPU");
+static_assert(find_thread_spec("tracker_w1") != nullptr && find_thread_spec("mapper_w1") != nullptr,
+              "the tracker's and the mapper's worker teams are in the table");
 static_assert(find_thread_spec("tracker")->period_ns == ms_to_ns(50), "tracker runs at 20 Hz");
 static_assert(find_thread_spec("imu_driver")->sched_fifo_priority >
                   find_thread_spec("tracker")->sched_fifo_priority,
               "drivers preempt the tracker");
+
+// `spec` as the rt: configuration allows it: priority 0 (SCHED_OTHER) unless realtime_priorities,
+// cpu -1 unless pin_cpus. Applied by whoever builds a thread from the table (the live pipeline
+// from rt.realtime_priorities / rt.pin_cpus; tools and tests leave both off).
+[[nodiscard]] constexpr ThreadSpec apply_policy(ThreadSpec spec, bool realtime_priorities,
+                                                bool pin_cpus) noexcept {
+  if (!realtime_priorities) spec.sched_fifo_priority = 0;
+  if (!pin_cpus) spec.cpu = -1;
+  return spec;
+}
 
 enum class ApplyResult : std::uint8_t {
   kNotRequested,  // nothing asked (cpu == -1)

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string_view>
 
@@ -66,6 +67,7 @@ struct Openni2Driver::Device {
   std::int64_t pending_read_ns[2] = {0, 0};  // host time each pending frame was read
   int last_index[2] = {0, 0};                // playback: last frame number seen per stream
   bool clip_restarted = false;               // playback: a frame number went back (repeat wrapped)
+  std::uint64_t frames_this_open[2] = {0, 0};  // frames read since this device was opened
 };
 
 Openni2DriverSettings openni2_settings(const config::CameraSettings& camera,
@@ -86,7 +88,16 @@ Openni2Driver::Openni2Driver(const Openni2DriverSettings& settings, rt::FramePoo
       pool_(pool),
       out_(out),
       // Half a frame period: frames of one instant pair, neighbours never do.
-      pairer_(static_cast<std::int64_t>(std::llround(5e5 / std::max(settings.rate_hz, 1.0)))) {
+      pairer_(static_cast<std::int64_t>(std::llround(5e5 / std::max(settings.rate_hz, 1.0)))),
+      machine_(DeviceStateSettings{
+          .frame_timeout_ns = rt::ms_to_ns(settings.frame_timeout_ms),
+          .max_consecutive_errors =
+              static_cast<std::uint32_t>(std::max(settings.max_consecutive_errors, 1)),
+          .backoff_initial_ns = rt::ms_to_ns(settings.reopen_backoff_initial_ms),
+          .backoff_max_ns = rt::ms_to_ns(
+              std::max(settings.reopen_backoff_max_ms, settings.reopen_backoff_initial_ms)),
+          .reopen = looks_like_file(settings.uri) ? settings.reopen_files : settings.reopen_live,
+          .max_open_attempts = 0}) {
   const rt::FramePoolSettings& p = pool.settings();
   if (p.width != settings.width_px || p.height != settings.height_px || p.colour_channels != 3) {
     throw std::invalid_argument(
@@ -96,20 +107,24 @@ Openni2Driver::Openni2Driver(const Openni2DriverSettings& settings, rt::FramePoo
         size_text(static_cast<int>(settings.width_px), static_cast<int>(settings.height_px)) +
         " rgb8 (3 channels)");
   }
-  if (settings.wait_timeout_ms <= 0) {
-    throw std::invalid_argument("Openni2Driver: wait_timeout_ms must be > 0");
+  if (settings.wait_timeout_ms <= 0 || settings.frame_timeout_ms <= settings.wait_timeout_ms ||
+      settings.reopen_backoff_initial_ms <= 0) {
+    throw std::invalid_argument(
+        "Openni2Driver: wait_timeout_ms must be > 0, frame_timeout_ms > wait_timeout_ms, "
+        "reopen_backoff_initial_ms > 0");
   }
+  const std::string& uri = settings.uri;
+  what_ = (looks_like_file(uri) ? "ONI file '" : "OpenNI2 device '") +
+          (uri.empty() ? std::string("(any)") : uri) + "'";
 }
 
 Openni2Driver::~Openni2Driver() {
   stop();
 }
 
-void Openni2Driver::start() {
-  if (thread_) return;
+void Openni2Driver::open_device() {
   const std::string& uri = settings_.uri;
-  const std::string what = (looks_like_file(uri) ? "ONI file '" : "OpenNI2 device '") +
-                           (uri.empty() ? std::string("(any)") : uri) + "'";
+  const std::string& what = what_;
   if (looks_like_file(uri)) {
     struct stat st {};
     if (::stat(uri.c_str(), &st) != 0) throw Openni2Error(what + ": " + std::strerror(errno));
@@ -128,8 +143,9 @@ void Openni2Driver::start() {
                          (looks_like_file(uri) ? " (not a readable ONI recording?)" : "") + ": " +
                          openni::OpenNI::getExtendedError());
     }
-    is_file_ = d.device.isFile();
-    if (is_file_) {
+    const bool is_file = d.device.isFile();
+    is_file_.store(is_file, std::memory_order_relaxed);
+    if (is_file) {
       openni::PlaybackControl* playback = d.device.getPlaybackControl();
       if (playback == nullptr || playback->setSpeed(-1) != openni::STATUS_OK) {
         throw Openni2Error(what + ": cannot switch playback to lockstep (setSpeed(-1))");
@@ -151,7 +167,7 @@ void Openni2Driver::start() {
         throw Openni2Error(what + ": no " + names[s] +
                            " stream: " + openni::OpenNI::getExtendedError());
       }
-      if (!is_file_) {
+      if (!is_file) {
         // Live sensor: pick the configured size, format and rate among the supported modes.
         const openni::SensorInfo& info = d.streams[s].getSensorInfo();
         const openni::Array<openni::VideoMode>& modes = info.getSupportedVideoModes();
@@ -185,7 +201,7 @@ void Openni2Driver::start() {
                            (s == kDepth ? " (DEPTH_1_MM)" : " (RGB888)"));
       }
     }
-    if (is_file_) {
+    if (is_file) {
       openni::PlaybackControl* playback = d.device.getPlaybackControl();
       const int nd = playback->getNumberOfFrames(d.streams[kDepth]);
       const int nc = playback->getNumberOfFrames(d.streams[kColour]);
@@ -193,13 +209,14 @@ void Openni2Driver::start() {
       clip_depth_frames_ = static_cast<std::uint64_t>(nd);
       clip_colour_frames_ = static_cast<std::uint64_t>(nc);
     }
-    registered_ = false;
+    bool registered = false;
     if (settings_.register_depth &&
         d.device.isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR)) {
-      registered_ = d.device.setImageRegistrationMode(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR) ==
-                    openni::STATUS_OK;
+      registered = d.device.setImageRegistrationMode(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR) ==
+                   openni::STATUS_OK;
     }
-    if (!is_file_) (void)d.device.setDepthColorSyncEnabled(true);  // best effort
+    registered_.store(registered, std::memory_order_relaxed);
+    if (!is_file) (void)d.device.setDepthColorSyncEnabled(true);  // best effort
     for (int s = 0; s < 2; ++s) {
       if (d.streams[s].start() != openni::STATUS_OK) {
         throw Openni2Error(what + ": cannot start the " + names[s] +
@@ -210,14 +227,26 @@ void Openni2Driver::start() {
     close_device();
     throw;
   }
-
-  // Fresh state for this run (the thread does not exist yet, so these writes do not race).
+  // Fresh per-connection state: a reopened device gets a new clock anchor and pairer.
   pairer_.reset();
   clock_.reset();
+}
+
+void Openni2Driver::start() {
+  if (thread_) return;
+  // Fresh state for this run (the thread does not exist yet, so these writes do not race).
+  machine_.reset(rt::monotonic_ns());
+  fault_text_[0] = '\0';
+  if (!settings_.wait_for_device) {
+    open_device();  // throws naming the URI; nothing is left open
+    machine_.reset(rt::monotonic_ns());
+    machine_.on_open_ok(rt::monotonic_ns());
+  }
+  state_.store(machine_.state(), std::memory_order_release);
   for (rt::SingleWriterCounter* c :
        {&depth_read_, &colour_read_, &frames_read_, &delivered_, &dropped_ring_full_,
         &dropped_pool_empty_, &unpaired_, &size_mismatch_, &read_errors_, &timeouts_,
-        &clock_reanchors_}) {
+        &clock_reanchors_, &reopens_}) {
     c->reset();
   }
   end_of_stream_.store(false, std::memory_order_relaxed);
@@ -254,36 +283,120 @@ void Openni2Driver::close_device() noexcept {
 }
 
 void Openni2Driver::run(const std::stop_token& stop) noexcept {
-  Device& d = *device_;
-  openni::VideoStream* streams[2] = {&d.streams[kDepth], &d.streams[kColour]};
   while (!stop.stop_requested()) {
-    int ready = -1;
-    // Lockstep playback: this wait is also what makes OpenNI2's player deliver the next record.
-    const openni::Status rc =
-        openni::OpenNI::waitForAnyStream(streams, 2, &ready, settings_.wait_timeout_ms);
-    if (rc == openni::STATUS_TIME_OUT) {
-      timeouts_.add();
-      continue;
+    switch (machine_.state()) {
+      case DeviceState::kOpening:
+        try_reopen();
+        break;
+      case DeviceState::kStreaming:
+        stream_step();
+        break;
+      case DeviceState::kLost:
+        lose_device();
+        break;
+      case DeviceState::kEnded:
+      case DeviceState::kFailed:
+        finish_stream(stop);
+        return;
     }
-    if (rc != openni::STATUS_OK || (ready != kDepth && ready != kColour)) {
-      read_errors_.add();
-      rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(settings_.wait_timeout_ms));
-      continue;
-    }
-    read_one(ready);
-    if (is_file_ && (d.clip_restarted || (depth_read_.get() >= clip_depth_frames_ &&
-                                          colour_read_.get() >= clip_colour_frames_))) {
-      finish_stream(stop);
-      return;
-    }
+    state_.store(machine_.state(), std::memory_order_release);
   }
 }
 
-void Openni2Driver::read_one(int s) noexcept {
+void Openni2Driver::stream_step() noexcept {
+  Device& d = *device_;
+  openni::VideoStream* streams[2] = {&d.streams[kDepth], &d.streams[kColour]};
+  int ready = -1;
+  // Lockstep playback: this wait is also what makes OpenNI2's player deliver the next record.
+  const openni::Status rc =
+      openni::OpenNI::waitForAnyStream(streams, 2, &ready, settings_.wait_timeout_ms);
+  const std::int64_t now_ns = rt::monotonic_ns();
+  if (rc == openni::STATUS_TIME_OUT) {
+    timeouts_.add();
+    (void)machine_.check_timeout(now_ns);  // the progress watchdog
+    return;
+  }
+  if (rc != openni::STATUS_OK || (ready != kDepth && ready != kColour)) {
+    read_errors_.add();
+    machine_.on_read_error(now_ns);
+    if (machine_.state() == DeviceState::kStreaming) {
+      rt::sleep_until_ns(now_ns + rt::ms_to_ns(settings_.wait_timeout_ms));
+      (void)machine_.check_timeout(rt::monotonic_ns());
+    }
+    return;
+  }
+  if (read_one(ready)) {
+    machine_.on_frame(now_ns);
+  } else if (!d.clip_restarted) {
+    machine_.on_read_error(now_ns);
+  }
+  if (is_file() && (d.clip_restarted || (d.frames_this_open[kDepth] >= clip_depth_frames_ &&
+                                         d.frames_this_open[kColour] >= clip_colour_frames_))) {
+    machine_.on_end_of_stream();
+  } else {
+    (void)machine_.check_timeout(now_ns);
+  }
+}
+
+// kOpening: waits for the next attempt (in wait_timeout_ms steps, so stop() stays prompt), then
+// opens the device by URI. Recovery path: OpenNI2 allocates here, the driver's strings too.
+void Openni2Driver::try_reopen() noexcept {
+  const std::int64_t now_ns = rt::monotonic_ns();
+  if (!machine_.due_to_open(now_ns)) {
+    rt::sleep_until_ns(
+        std::min(machine_.deadline_ns(), now_ns + rt::ms_to_ns(settings_.wait_timeout_ms)));
+    return;
+  }
+  const bool first = machine_.counters().opens == 0;
+  try {
+    open_device();
+    machine_.on_open_ok(rt::monotonic_ns());
+    if (!first) reopens_.add();
+  } catch (const std::exception& e) {
+    set_fault_text(e.what());
+    machine_.on_open_failed(rt::monotonic_ns());
+  } catch (...) {
+    set_fault_text("unknown error while opening");
+    machine_.on_open_failed(rt::monotonic_ns());
+  }
+}
+
+// kLost: what is pending can find no partner any more; close, so the next open starts clean.
+void Openni2Driver::lose_device() noexcept {
+  if (device_) {
+    for (auto& f : device_->pending) {
+      if (f.isValid()) unpaired_.add();
+    }
+  }
+  char text[kFaultTextBytes];
+  const DeviceFault why = machine_.last_fault();
+  if (why == DeviceFault::kFrameTimeout && is_file()) {
+    std::snprintf(text, sizeof text,
+                  "%s: playback made no progress for %d ms after %llu of %llu depth frames "
+                  "(a truncated or damaged clip?)",
+                  what_.c_str(), settings_.frame_timeout_ms,
+                  static_cast<unsigned long long>(device_ ? device_->frames_this_open[kDepth] : 0),
+                  static_cast<unsigned long long>(clip_depth_frames_));
+  } else {
+    const std::string_view why_text = to_string(why);
+    std::snprintf(text, sizeof text, "%s: stream lost (%.*s) after %llu frames", what_.c_str(),
+                  static_cast<int>(why_text.size()), why_text.data(),
+                  static_cast<unsigned long long>(frames_read_.get()));
+  }
+  set_fault_text(text);
+  close_device();
+  machine_.on_closed(rt::monotonic_ns());
+}
+
+void Openni2Driver::set_fault_text(const char* text) noexcept {
+  std::snprintf(fault_text_.data(), fault_text_.size(), "%s", text);
+}
+
+bool Openni2Driver::read_one(int s) noexcept {
   Device& d = *device_;
   if (d.streams[s].readFrame(&d.incoming) != openni::STATUS_OK || !d.incoming.isValid()) {
     read_errors_.add();
-    return;
+    return false;
   }
   const std::int64_t t_read_ns = rt::monotonic_ns();
   if (is_file_) {
@@ -292,11 +405,12 @@ void Openni2Driver::read_one(int s) noexcept {
     if (d.incoming.getFrameIndex() <= d.last_index[s]) {
       d.incoming.release();
       d.clip_restarted = true;
-      return;
+      return false;
     }
     d.last_index[s] = d.incoming.getFrameIndex();
   }
   (s == kDepth ? depth_read_ : colour_read_).add();
+  ++d.frames_this_open[s];
 
   const std::size_t bpp = s == kDepth ? kDepthBytesPerPixel : kColourBytesPerPixel;
   const openni::PixelFormat want =
@@ -311,7 +425,7 @@ void Openni2Driver::read_one(int s) noexcept {
           static_cast<std::size_t>(f.getStrideInBytes()) * (settings_.height_px - 1) + row_bytes) {
     size_mismatch_.add();  // counted and skipped, never paired
     d.incoming.release();
-    return;
+    return true;  // the device delivers: not a fault of the stream
   }
 
   const auto t_device_us = static_cast<std::int64_t>(f.getTimestamp());
@@ -337,6 +451,7 @@ void Openni2Driver::read_one(int s) noexcept {
       d.pending[kColour].release();
       break;
   }
+  return true;
 }
 
 void Openni2Driver::emit_pair() noexcept {
@@ -370,14 +485,16 @@ void Openni2Driver::emit_pair() noexcept {
 }
 
 void Openni2Driver::finish_stream(const std::stop_token& stop) noexcept {
-  Device& d = *device_;
-  for (int s = 0; s < 2; ++s) {
-    if (d.pending[s].isValid()) {
-      unpaired_.add();
-      d.pending[s].release();
+  if (device_) {
+    for (auto& f : device_->pending) {
+      if (f.isValid()) {
+        unpaired_.add();
+        f.release();
+      }
     }
   }
   pairer_.reset();
+  if (machine_.state() == DeviceState::kEnded) fault_text_[0] = '\0';
   end_of_stream_.store(true, std::memory_order_release);  // last: counters are final
   // End-of-stream marker: an invalid handle. Shutdown is not real-time, so wait for room.
   while (!stop.stop_requested()) {
@@ -400,7 +517,25 @@ RgbdDriverCounters Openni2Driver::counters() const noexcept {
   c.read_errors = read_errors_.get();
   c.timeouts = timeouts_.get();
   c.clock_reanchors = clock_reanchors_.get();
+  const DeviceStateCounters m = machine_.counters();
+  c.opens = m.opens;
+  c.open_failures = m.open_failures;
+  c.losses = m.losses;
+  c.frame_timeouts = m.frame_timeouts;
+  c.error_resets = m.error_resets;
+  c.device_gone = m.device_gone;
+  c.reopens = reopens_.get();
   return c;
+}
+
+DeviceFault Openni2Driver::fault() const noexcept {
+  if (!end_of_stream() || state() != DeviceState::kFailed) return DeviceFault::kNone;
+  return machine_.last_fault();
+}
+
+std::string Openni2Driver::fault_message() const {
+  if (fault() == DeviceFault::kNone) return {};
+  return std::string(fault_text_.data());
 }
 
 const rt::ThreadApplyStatus* Openni2Driver::thread_status() const noexcept {

@@ -14,11 +14,23 @@
 // to the pool at once, and it is counted (dropped_ring_full). An empty pool drops the pair
 // (dropped_pool_empty). The driver never waits for the consumer.
 //
+// States (DeviceStateMachine, drivers/common/device_state_machine.hpp): opening, streaming, lost,
+// reopening after a backoff (100 ms doubling to 2 s), ended, failed. start() opens the device
+// itself and throws on failure (unless wait_for_device); afterwards everything happens on the
+// driver thread: a stream without a frame for frame_timeout_ms, or max_consecutive_errors
+// failed waits/reads in a row (the failure count that forces a reset), is lost: the driver
+// closes the device and reopens it by URI with the backoff, re-anchoring the clock. A live
+// sensor is reopened (reopen_live); a .oni clip is not (reopen_files): its frame timeout is the
+// playback watchdog -- a truncated clip on which OpenNI2's player spins at end of file ends the
+// stream as failed, with fault_message() naming the file and the frames played, instead of
+// hanging. Reopening runs OpenNI2's open path on the driver thread (it allocates); that is a
+// recovery path, not the per-frame one.
+//
 // Playback: Device::open(path), setSpeed(-1) (lockstep: OpenNI2 delivers every recorded frame,
 // one per read, never skipping), repeat left on (see the .cpp), no seek. After the clip's last
-// frame the driver sets end_of_stream(), pushes an invalid FrameHandle as the end-of-stream
-// marker (retrying every millisecond until the consumer makes room, or stop()) and its thread
-// ends.
+// frame (or a final fault) the driver sets end_of_stream(), pushes an invalid FrameHandle as the
+// end-of-stream marker (retrying every millisecond until the consumer makes room, or stop()) and
+// its thread ends.
 //
 // Real-time: all buffers are the pool's; the loop itself does not allocate, lock or log.
 // OpenNI2's own calls on that path (waitForAnyStream, readFrame, frame reference release) take
@@ -26,6 +38,7 @@
 // frame in frame release (tests/drivers/test_openni2_alloc.cpp); that is outside this code.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -33,6 +46,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "drivers/common/device_state_machine.hpp"
 #include "drivers/openni2/device_clock.hpp"
 #include "drivers/openni2/frame_pairer.hpp"
 #include "drivers/openni2/pinned_stack_thread.hpp"
@@ -64,6 +78,16 @@ struct Openni2DriverSettings {
   bool register_depth = true;     ///< depth-to-colour registration where the device has it
   bool realtime_thread = true;    ///< request the thread table's SCHED_FIFO priority
   bool pin_cpu = true;            ///< pin to the thread table's CPU
+  // Life cycle (DeviceStateMachine).
+  int frame_timeout_ms = 2000;          ///< streaming without a frame this long: lost (playback:
+                                        ///< the progress watchdog)
+  int max_consecutive_errors = 10;      ///< failed waits/reads in a row that force a reset
+  int reopen_backoff_initial_ms = 100;  ///< first wait before reopening a lost device
+  int reopen_backoff_max_ms = 2000;     ///< the wait doubles up to this
+  bool reopen_live = true;       ///< reopen a lost live sensor (false: the loss ends the stream)
+  bool reopen_files = false;     ///< reopen a .oni path whose playback stalled (tests, re-recorded
+                                 ///< clips); false: a stalled clip ends the stream as failed
+  bool wait_for_device = false;  ///< start() does not open: the thread keeps trying (backoff)
 };
 
 /// Driver settings from the robot config (camera.device, camera.width_px, camera.height_px,
@@ -90,14 +114,25 @@ class Openni2Driver {
   void stop();
   [[nodiscard]] bool running() const noexcept { return thread_.has_value(); }
 
-  /// True once playback has read the clip's last frame (never for a live sensor).
+  /// True once the stream has ended: playback read the clip's last frame, or a final fault
+  /// (fault() != kNone; a lost live sensor only with reopen_live off). Never otherwise.
   [[nodiscard]] bool end_of_stream() const noexcept {
     return end_of_stream_.load(std::memory_order_acquire);
   }
   /// True when the opened device is a file (playback).
-  [[nodiscard]] bool is_file() const noexcept { return is_file_; }
+  [[nodiscard]] bool is_file() const noexcept { return is_file_.load(std::memory_order_relaxed); }
   /// True when depth-to-colour registration was switched on.
-  [[nodiscard]] bool registered() const noexcept { return registered_; }
+  [[nodiscard]] bool registered() const noexcept {
+    return registered_.load(std::memory_order_relaxed);
+  }
+  /// Current life-cycle state (any thread).
+  [[nodiscard]] DeviceState state() const noexcept {
+    return state_.load(std::memory_order_acquire);
+  }
+  /// Why the stream ended, once end_of_stream(): kNone for a clip played to its end.
+  [[nodiscard]] DeviceFault fault() const noexcept;
+  /// Once end_of_stream() with a fault: what failed, naming the URI (empty otherwise).
+  [[nodiscard]] std::string fault_message() const;
 
   /// Counter snapshot; callable from any thread at any time.
   [[nodiscard]] RgbdDriverCounters counters() const noexcept;
@@ -107,8 +142,14 @@ class Openni2Driver {
  private:
   struct Device;  // the OpenNI2 objects (kept out of this header)
 
+  void open_device();  // throws Openni2Error; nothing is left open after a throw
   void run(const std::stop_token& stop) noexcept;
-  void read_one(int stream_index) noexcept;
+  void stream_step() noexcept;
+  void try_reopen() noexcept;
+  void lose_device() noexcept;
+  void set_fault_text(const char* text) noexcept;
+  // Returns false when the frame was not read (error) or not part of this run (clip restart).
+  bool read_one(int stream_index) noexcept;
   void emit_pair() noexcept;
   void finish_stream(const std::stop_token& stop) noexcept;
   void close_device() noexcept;
@@ -119,8 +160,13 @@ class Openni2Driver {
   std::unique_ptr<Device> device_;
   FramePairer pairer_;
   DeviceClock clock_;
-  bool is_file_ = false;
-  bool registered_ = false;
+  std::string what_;  // "ONI file 'x'" / "OpenNI2 device 'x'", for messages
+  DeviceStateMachine machine_;
+  std::atomic<DeviceState> state_{DeviceState::kOpening};
+  static constexpr std::size_t kFaultTextBytes = 384;
+  std::array<char, kFaultTextBytes> fault_text_{};  // written by the thread before end_of_stream_
+  std::atomic<bool> is_file_{false};
+  std::atomic<bool> registered_{false};
   std::uint64_t clip_depth_frames_ = 0;  // playback: frames per stream in the clip
   std::uint64_t clip_colour_frames_ = 0;
 
@@ -135,6 +181,7 @@ class Openni2Driver {
   rt::SingleWriterCounter read_errors_;
   rt::SingleWriterCounter timeouts_;
   rt::SingleWriterCounter clock_reanchors_;
+  rt::SingleWriterCounter reopens_;
   std::atomic<bool> end_of_stream_{false};
   std::optional<PinnedStackThread> thread_;
 };

@@ -22,7 +22,15 @@ struct RgbdDriverCounters {
   std::uint64_t read_errors = 0;         // waitForAnyStream / readFrame failures
   std::uint64_t timeouts = 0;            // waits that saw no frame within wait_timeout_ms
   std::uint64_t clock_reanchors = 0;     // device time went backwards (DeviceClock)
-  bool end_of_stream = false;            // playback: the clip's last frame has been read
+  // Life cycle (DeviceStateMachine): one counter per fault kind.
+  std::uint64_t opens = 0;           // successful opens (start() included)
+  std::uint64_t open_failures = 0;   // failed (re)open attempts
+  std::uint64_t losses = 0;          // streams lost = frame_timeouts + error_resets + device_gone
+  std::uint64_t frame_timeouts = 0;  // no frame within frame_timeout_ms (playback stalled)
+  std::uint64_t error_resets = 0;    // max_consecutive_errors failures in a row forced a reset
+  std::uint64_t device_gone = 0;     // the device vanished
+  std::uint64_t reopens = 0;         // opens after a loss (opens - 1 once started)
+  bool end_of_stream = false;        // the stream has ended (clip end or final fault)
 };
 
 }  // namespace vigs::drivers

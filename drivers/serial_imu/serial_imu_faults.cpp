@@ -38,17 +38,14 @@ constexpr Field kFields[] = {
 
 }  // namespace
 
+io::Json SerialImuFaults::to_json_value() const {
+  io::Json j = io::Json::object();
+  for (const Field& f : kFields) j[std::string(f.name)] = this->*f.member;
+  return j;
+}
+
 std::string SerialImuFaults::to_json() const {
-  std::string out = "{";
-  for (const Field& f : kFields) {
-    if (out.size() > 1) out += ", ";
-    out += '"';
-    out += f.name;
-    out += "\": ";
-    out += std::to_string(this->*f.member);
-  }
-  out += '}';
-  return out;
+  return io::json_line(to_json_value());
 }
 
 std::string SerialImuFaults::to_string() const {

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "io/json_text.hpp"
+
 namespace vigs::drivers {
 
 struct ParserCounters;
@@ -35,7 +37,8 @@ struct SerialImuFaults {
   std::uint64_t truncated_at_hangup = 0;  ///< a message was cut off by a hang-up
   std::uint64_t reopens = 0;              ///< port reopened after a hang-up
 
-  [[nodiscard]] std::string to_json() const;
+  [[nodiscard]] io::Json to_json_value() const;  ///< {"bytes_read": N, ...}
+  [[nodiscard]] std::string to_json() const;     ///< to_json_value() on one line
   [[nodiscard]] std::string to_string() const;
 
   /// Copy the parser / stamper fields from live counters.

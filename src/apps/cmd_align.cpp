@@ -10,9 +10,9 @@
 
 #include "apps/commands.hpp"
 #include "apps/finite_option.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/image_io.hpp"
+#include "io/json_text.hpp"
 #include "tracking/camera_file.hpp"
 #include "tracking/gicp.hpp"
 #include "tracking/preprocess.hpp"
@@ -38,16 +38,15 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-std::string json_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
+// The report's figures keep 9 significant digits (its established precision).
+io::Json num9(double v) {
+  return io::rounded(v, 9);
 }
 
-std::string json_array(const double* v, int n) {
-  std::string s = "[";
-  for (int i = 0; i < n; ++i) s += (i ? ", " : "") + json_number(v[i]);
-  return s + "]";
+io::Json num9_array(const double* v, int n) {
+  io::Json a = io::Json::array();
+  for (int i = 0; i < n; ++i) a.push_back(num9(v[i]));
+  return a;
 }
 
 int run_align(const AlignOptions& o) {
@@ -74,19 +73,19 @@ int run_align(const AlignOptions& o) {
 
   const auto t_load = Clock::now();
   const double depth_scale_m = 1.0 / o.depth_scale;
-  const io::ImageU8 src_rgb = io::read_rgb(o.source[0]);
-  const io::ImageF32 src_depth = io::read_depth_m(o.source[1], depth_scale_m);
-  const io::ImageU8 tgt_rgb = io::read_rgb(o.target[0]);
-  const io::ImageF32 tgt_depth = io::read_depth_m(o.target[1], depth_scale_m);
+  const ImageU8 src_rgb = io::read_rgb(o.source[0]);
+  const ImageF32 src_depth = io::read_depth_m(o.source[1], depth_scale_m);
+  const ImageU8 tgt_rgb = io::read_rgb(o.target[0]);
+  const ImageF32 tgt_depth = io::read_depth_m(o.target[1], depth_scale_m);
   const double load_ms = ms_since(t_load);
 
-  tracking::ForkJoin team(ts.num_threads);
+  vigs::rt::WorkerTeam team(ts.num_threads);
   tracking::FramePreprocessor pre(camera, tracking::preprocess_setting(ts), team);
   tracking::GaussianCloud src, tgt;
   tracking::KdTree tgt_tree;
   tracking::PixelGrid tgt_grid;
   const auto t_pre = Clock::now();
-  const auto process = [&pre](const io::ImageF32& depth, const io::ImageU8& rgb,
+  const auto process = [&pre](const ImageF32& depth, const ImageU8& rgb,
                               const std::vector<std::string>& files, tracking::GaussianCloud& cloud,
                               tracking::KdTree* tree, tracking::PixelGrid* grid) {
     try {
@@ -111,29 +110,29 @@ int run_align(const AlignOptions& o) {
   const double tq[7] = {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
   Eigen::Matrix<double, 4, 4, Eigen::RowMajor> m = r.T_t_s.matrix();
   Eigen::Matrix<double, 6, 6, Eigen::RowMajor> info = r.information;
-  std::ostringstream js;
-  js << "{\n"
-     << "  \"source\": [" << json_string(o.source[0]) << ", " << json_string(o.source[1]) << "],\n"
-     << "  \"target\": [" << json_string(o.target[0]) << ", " << json_string(o.target[1]) << "],\n"
-     << "  \"pose_convention\": \"T_target_source: p_target = R * p_source + t (camera frames)\",\n"
-     << "  \"T_target_source\": {\"translation_m\": " << json_array(tq, 3)
-     << ", \"quaternion_xyzw\": " << json_array(tq + 3, 4)
-     << ", \"matrix_row_major\": " << json_array(m.data(), 16) << "},\n"
-     << "  \"tum_xyz_qxyzw\": " << json_array(tq, 7) << ",\n"
-     << "  \"verdict\": " << json_string(std::string(tracking::to_string(r.verdict))) << ",\n"
-     << "  \"iterations\": " << r.iterations << ",\n"
-     << "  \"inlier_ratio\": " << json_number(r.inlier_ratio) << ",\n"
-     << "  \"overlap_ratio\": " << json_number(r.overlap_ratio) << ",\n"
-     << "  \"eigen_ratio\": " << json_number(r.eigen_ratio) << ",\n"
-     << "  \"information_row_major\": " << json_array(info.data(), 36) << ",\n"
-     << "  \"points\": {\"source\": " << src_stats.points << ", \"target\": " << tgt_stats.points
-     << ", \"source_invalid\": " << src_stats.invalid
-     << ", \"source_out_of_range\": " << src_stats.too_near + src_stats.too_far << "},\n"
-     << "  \"time_ms\": {\"load\": " << json_number(load_ms)
-     << ", \"preprocess\": " << json_number(pre_ms) << ", \"align\": " << json_number(align_ms)
-     << ", \"total\": " << json_number(ms_since(t_start)) << "}\n"
-     << "}\n";
-  std::cout << js.str();
+  io::Json js;
+  js["source"] = o.source;
+  js["target"] = o.target;
+  js["pose_convention"] = "T_target_source: p_target = R * p_source + t (camera frames)";
+  js["T_target_source"] = {{"translation_m", num9_array(tq, 3)},
+                           {"quaternion_xyzw", num9_array(tq + 3, 4)},
+                           {"matrix_row_major", num9_array(m.data(), 16)}};
+  js["tum_xyz_qxyzw"] = num9_array(tq, 7);
+  js["verdict"] = std::string(tracking::to_string(r.verdict));
+  js["iterations"] = r.iterations;
+  js["inlier_ratio"] = num9(r.inlier_ratio);
+  js["overlap_ratio"] = num9(r.overlap_ratio);
+  js["eigen_ratio"] = num9(r.eigen_ratio);
+  js["information_row_major"] = num9_array(info.data(), 36);
+  js["points"] = {{"source", src_stats.points},
+                  {"target", tgt_stats.points},
+                  {"source_invalid", src_stats.invalid},
+                  {"source_out_of_range", src_stats.too_near + src_stats.too_far}};
+  js["time_ms"] = {{"load", num9(load_ms)},
+                   {"preprocess", num9(pre_ms)},
+                   {"align", num9(align_ms)},
+                   {"total", num9(ms_since(t_start))}};
+  std::cout << io::json_lines(js) << "\n";
   return r.verdict == tracking::GicpVerdict::converged ? 0 : 3;
 }
 

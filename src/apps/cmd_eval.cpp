@@ -15,6 +15,8 @@
 #include "eval/report.hpp"
 #include "eval/rpe.hpp"
 #include "eval/trajectory_file.hpp"
+#include "io/json_text.hpp"
+#include "io/mcap/damage_object.hpp"
 #include "io/output_guard.hpp"
 #include "sim/simulator.hpp"
 
@@ -60,9 +62,10 @@ std::string with_input_damage(std::string json, const eval::Trajectory& gt,
   }
   if (json.empty() || json.back() != '}') return json;
   json.pop_back();
-  return json +
-         ", \"input_damage\": {\"gt\": " + io::mcap::damage_json(gt.damage, eval::poses_used(gt)) +
-         ", \"est\": " + io::mcap::damage_json(est.damage, eval::poses_used(est)) + "}}";
+  return json + ", \"input_damage\": " +
+         io::json_line({{"gt", io::mcap::damage_object(gt.damage, eval::poses_used(gt))},
+                        {"est", io::mcap::damage_object(est.damage, eval::poses_used(est))}}) +
+         "}";
 }
 
 /// Runs `body`, turning input errors into a message on stderr and exit code 1.

@@ -5,8 +5,8 @@
 
 #include "apps/commands.hpp"
 #include "apps/eval_group.hpp"
-#include "apps/json_text.hpp"
 #include "io/image_io.hpp"
+#include "io/json_text.hpp"
 #include "mapping/image_metrics.hpp"
 
 namespace vigs::apps {
@@ -35,13 +35,19 @@ void add_eval_image_command(CLI::App& app, ExitCode& exit_code) {
       }
       const auto w = mapping::parse_ssim_window(window);
       const auto q = mapping::image_quality(a, b, w);
-      std::cout << "{\"ref\": " << json_string(ref) << ", \"test\": " << json_string(test)
-                << ", \"width\": " << a.width << ", \"height\": " << a.height
-                << ", \"channels\": " << a.channels << ", \"psnr_db\": " << json_number(q.psnr_db)
-                << ", \"ssim\": " << json_number(q.ssim) << ", \"ssim_window\": \"" << window
-                << "\", \"ssim_covariance\": \""
-                << (w == mapping::SsimWindow::kUniform7 ? "sample" : "population")
-                << "\", \"ssim_border\": \"valid windows only\"}\n";
+      io::Json j;
+      j["ref"] = ref;
+      j["test"] = test;
+      j["width"] = a.width;
+      j["height"] = a.height;
+      j["channels"] = a.channels;
+      // Identical images have an unbounded PSNR: reported as null, as before.
+      j["psnr_db"] = io::finite_or_null(io::rounded(q.psnr_db, 10).get<double>());
+      j["ssim"] = io::finite_or_null(io::rounded(q.ssim, 10).get<double>());
+      j["ssim_window"] = window;
+      j["ssim_covariance"] = w == mapping::SsimWindow::kUniform7 ? "sample" : "population";
+      j["ssim_border"] = "valid windows only";
+      std::cout << io::json_line(j) << "\n";
     } catch (const std::exception& e) {
       std::cerr << "vigs eval image: " << e.what() << "\n";
       exit_code.value = 1;

@@ -10,12 +10,12 @@
 #include "apps/commands.hpp"
 #include "apps/eval_group.hpp"
 #include "apps/finite_option.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "inertial/euroc_csv.hpp"
 #include "inertial/imu_window_eval.hpp"
+#include "io/json_text.hpp"
 
 namespace vigs::apps {
 
@@ -30,11 +30,13 @@ struct EvalImuArgs {
   std::string config_file;
 };
 
-std::string json_stats(const inertial::ErrorStats& s) {
-  std::ostringstream os;
-  os.precision(9);
-  os << "{\"rms\": " << s.rms << ", \"max\": " << s.max << "}";
-  return os.str();
+// Figures keep the report's established 9 significant digits.
+io::Json num9(double v) {
+  return io::rounded(v, 9);
+}
+
+io::Json json_stats(const inertial::ErrorStats& s) {
+  return {{"rms", num9(s.rms)}, {"max", num9(s.max)}};
 }
 
 int run_eval_imu(const EvalImuArgs& a) {
@@ -56,26 +58,23 @@ int run_eval_imu(const EvalImuArgs& a) {
   const auto gt = inertial::read_euroc_groundtruth_csv(a.gt_csv);
   const inertial::WindowEvalResult r = inertial::evaluate_imu_windows(imu, gt, o);
 
-  std::ostringstream os;
-  os.precision(9);
-  os << "{\n"
-     << "  \"imu\": " << json_string(a.imu_csv) << ",\n"
-     << "  \"gt\": " << json_string(a.gt_csv) << ",\n"
-     << "  \"window_s\": " << a.window_s << ",\n"
-     << "  \"bias\": " << json_string(a.bias) << ",\n"
-     << "  \"scheme\": " << json_string(inertial::integration_scheme_name(o.scheme)) << ",\n"
-     << "  \"gravity_mps2\": " << o.gravity_mps2 << ",\n"
-     << "  \"windows\": " << r.windows << ",\n"
-     << "  \"skipped_gap\": " << r.skipped_gap << ",\n"
-     << "  \"mean_window_s\": " << r.mean_window_s << ",\n"
-     << "  \"rotation_deg\": " << json_stats(r.rotation_deg) << ",\n"
-     << "  \"velocity_mps\": " << json_stats(r.velocity_mps) << ",\n"
-     << "  \"position_m\": " << json_stats(r.position_m) << ",\n"
-     << "  \"predicted_sigma\": {\"rotation_deg\": " << r.sigma_rotation_deg
-     << ", \"velocity_mps\": " << r.sigma_velocity_mps << ", \"position_m\": " << r.sigma_position_m
-     << "}\n"
-     << "}\n";
-  std::cout << os.str();
+  io::Json j;
+  j["imu"] = a.imu_csv;
+  j["gt"] = a.gt_csv;
+  j["window_s"] = num9(a.window_s);
+  j["bias"] = a.bias;
+  j["scheme"] = std::string(inertial::integration_scheme_name(o.scheme));
+  j["gravity_mps2"] = num9(o.gravity_mps2);
+  j["windows"] = r.windows;
+  j["skipped_gap"] = r.skipped_gap;
+  j["mean_window_s"] = num9(r.mean_window_s);
+  j["rotation_deg"] = json_stats(r.rotation_deg);
+  j["velocity_mps"] = json_stats(r.velocity_mps);
+  j["position_m"] = json_stats(r.position_m);
+  j["predicted_sigma"] = {{"rotation_deg", num9(r.sigma_rotation_deg)},
+                          {"velocity_mps", num9(r.sigma_velocity_mps)},
+                          {"position_m", num9(r.sigma_position_m)}};
+  std::cout << io::json_lines(j) << "\n";
   return 0;
 }
 

@@ -19,12 +19,12 @@
 
 #include "apps/commands.hpp"
 #include "apps/finite_option.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "drivers/serial_imu/euroc_imu_csv.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "drivers/serial_imu/xsens_encoder.hpp"
+#include "io/json_text.hpp"
 #include "rt/clock.hpp"
 #include "rt/spsc_ring.hpp"
 
@@ -39,11 +39,9 @@ struct ListenOptions {
   double seconds = 5.0;
 };
 
-std::string json_vec(const double v[3]) {
-  std::ostringstream s;
-  s.precision(9);
-  s << '[' << v[0] << ", " << v[1] << ", " << v[2] << ']';
-  return s.str();
+// Figures keep the report's established 9 significant digits.
+io::Json json_vec(const double v[3]) {
+  return {io::rounded(v[0], 9), io::rounded(v[1], 9), io::rounded(v[2], 9)};
 }
 
 int run_listen(const ListenOptions& o) {
@@ -95,14 +93,18 @@ int run_listen(const ListenOptions& o) {
     gyro_mean[k] = count ? gyro_sum[k] / static_cast<double>(count) : 0.0;
   }
   const double span_s = rt::ns_to_s(last_ns - first_ns);
-  std::cout.precision(9);
-  std::cout << "{\"port\": " << json_string(s.port) << ", \"baud\": " << s.baud
-            << ", \"protocol\": " << json_string(s.protocol) << ", \"seconds\": " << o.seconds
-            << ", \"samples\": " << count << ", \"rate_hz\": "
-            << (count > 1 && span_s > 0 ? static_cast<double>(count - 1) / span_s : 0.0)
-            << ", \"mean_accel_mps2\": " << json_vec(accel_mean)
-            << ", \"mean_gyro_rps\": " << json_vec(gyro_mean)
-            << ", \"faults\": " << driver.faults().to_json() << "}\n";
+  io::Json j;
+  j["port"] = s.port;
+  j["baud"] = s.baud;
+  j["protocol"] = s.protocol;
+  j["seconds"] = io::rounded(o.seconds, 9);
+  j["samples"] = count;
+  j["rate_hz"] =
+      io::rounded(count > 1 && span_s > 0 ? static_cast<double>(count - 1) / span_s : 0.0, 9);
+  j["mean_accel_mps2"] = json_vec(accel_mean);
+  j["mean_gyro_rps"] = json_vec(gyro_mean);
+  j["faults"] = driver.faults().to_json_value();
+  std::cout << io::json_line(j) << "\n";
   return count > 0 ? 0 : 3;
 }
 
@@ -125,7 +127,7 @@ int run_play(const PlayOptions& o) {
       throw std::runtime_error(o.csv + ":" + std::to_string(rows[i].line) + ": stamp gap of " +
                                std::to_string(static_cast<double>(gap_ns) * 1e-9) +
                                " s after the previous sample exceeds --max-gap " +
-                               json_number(o.max_gap_s) + " s");
+                               io::json_line(io::Json(o.max_gap_s)) + " s");
     }
   }
   const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
@@ -141,9 +143,12 @@ int run_play(const PlayOptions& o) {
   }
   ::cfmakeraw(&tio);
   ::tcsetattr(hold, TCSANOW, &tio);
-  std::cout << "{\"pty\": " << json_string(slave) << ", \"samples\": " << rows.size()
-            << ", \"duration_s\": " << rt::ns_to_s(rows.back().t_ns - rows.front().t_ns)
-            << ", \"max_gap_s\": " << rt::ns_to_s(widest_ns) << "}" << std::endl;
+  std::cout << io::json_line({{"pty", slave},
+                              {"samples", rows.size()},
+                              {"duration_s",
+                               io::rounded(rt::ns_to_s(rows.back().t_ns - rows.front().t_ns), 6)},
+                              {"max_gap_s", io::rounded(rt::ns_to_s(widest_ns), 6)}})
+            << std::endl;
 
   const std::int64_t start_ns = rt::monotonic_ns() + rt::s_to_ns(o.delay_s);
   std::uint64_t bytes = 0;
@@ -168,7 +173,7 @@ int run_play(const PlayOptions& o) {
   rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(200));
   ::close(master);
   ::close(hold);
-  std::cout << "{\"bytes_written\": " << bytes << "}" << std::endl;
+  std::cout << io::json_line({{"bytes_written", bytes}}) << std::endl;
   return 0;
 }
 

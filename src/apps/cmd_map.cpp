@@ -10,9 +10,9 @@
 
 #include "apps/commands.hpp"
 #include "apps/frame_list.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/image_io.hpp"
+#include "io/json_text.hpp"
 #include "io/output_guard.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/map_optimizer.hpp"
@@ -102,7 +102,7 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
       if (inserted == 0)
         throw std::runtime_error(frames_path + ": the frames inserted no Gaussian (stride " +
                                  std::to_string(stride) + ")");
-      mapping::WorkerPool pool(cfg.mapping.threads);
+      vigs::rt::WorkerTeam pool(cfg.mapping.threads, vigs::rt::ThreadSpec{.name = "mapper_w1"});
       mapping::MapOptimizer opt(cfg.mapping, &pool);
       std::vector<std::size_t> order(frames.size());
       std::iota(order.begin(), order.end(), 0);
@@ -122,14 +122,18 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
       mapping::write_gaussian_ply(out_path, map);
       const double secs =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::cout << "{\"frames\": " << frames.size() << ", \"inserted\": " << inserted
-                << ", \"pruned\": " << pruned << ", \"gaussians\": " << map.size()
-                << ", \"iterations\": " << iterations
-                << ", \"last_loss\": " << json_number(last.total)
-                << ", \"last_ssim\": " << json_number(last.ssim)
-                << ", \"bytes_per_gaussian\": " << json_number(opt.bytes_per_gaussian(map))
-                << ", \"seconds\": " << json_number(secs) << ", \"out\": " << json_string(out_path)
-                << "}\n";
+      io::Json j;
+      j["frames"] = frames.size();
+      j["inserted"] = inserted;
+      j["pruned"] = pruned;
+      j["gaussians"] = map.size();
+      j["iterations"] = iterations;
+      j["last_loss"] = io::rounded(last.total, 10);
+      j["last_ssim"] = io::rounded(last.ssim, 10);
+      j["bytes_per_gaussian"] = io::rounded(opt.bytes_per_gaussian(map), 10);
+      j["seconds"] = io::rounded(secs, 10);
+      j["out"] = out_path;
+      std::cout << io::json_line(j) << "\n";
     } catch (const std::exception& e) {
       std::cerr << "vigs map: " << e.what() << "\n";
       exit_code.value = 1;

@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "apps/commands.hpp"
-#include "apps/json_text.hpp"
 #include "io/io_error.hpp"
+#include "io/json_text.hpp"
+#include "io/mcap/damage_object.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/oni/mcap_to_oni.hpp"
 #include "io/ros_msgs/camera_info.hpp"
@@ -72,19 +73,19 @@ int run_info(const std::string& file, bool decode, const std::vector<std::string
       ++decode_errors;
     }
   }
-  std::cout << "{\n  \"file\": " << json_string(file)
-            << ",\n  \"profile\": " << json_string(reader->profile())
-            << ",\n  \"library\": " << json_string(reader->library())
-            << ",\n  \"summary\": " << (reader->has_summary() ? "true" : "false")
-            << ",\n  \"messages\": " << total;
+  io::Json j;
+  j["file"] = file;
+  j["profile"] = reader->profile();
+  j["library"] = reader->library();
+  j["summary"] = reader->has_summary();
+  j["messages"] = total;
   if (const auto& st = reader->statistics()) {
-    std::cout << ",\n  \"statistics\": {\"message_count\": " << st->message_count
-              << ", \"chunk_count\": " << st->chunk_count
-              << ", \"message_start_time_ns\": " << st->message_start_time_ns
-              << ", \"message_end_time_ns\": " << st->message_end_time_ns << "}";
+    j["statistics"] = {{"message_count", st->message_count},
+                       {"chunk_count", st->chunk_count},
+                       {"message_start_time_ns", st->message_start_time_ns},
+                       {"message_end_time_ns", st->message_end_time_ns}};
   }
-  std::cout << ",\n  \"channels\": [";
-  bool first = true;
+  io::Json& channels = j["channels"] = io::Json::array();
   for (const io::mcap::Channel* c : reader->channels()) {
     if (!options.topics.empty() && !options.topics.contains(c->topic)) continue;
     const ChannelStats& s = stats[c->id];
@@ -92,30 +93,28 @@ int run_info(const std::string& file, bool decode, const std::vector<std::string
     for (const io::mcap::Schema* sc : reader->schemas()) {
       if (sc->id == c->schema_id) schema = sc;
     }
-    std::cout << (first ? "\n" : ",\n") << "    {\"id\": " << c->id
-              << ", \"topic\": " << json_string(c->topic)
-              << ", \"schema\": " << json_string(schema ? schema->name : "")
-              << ", \"message_encoding\": " << json_string(c->message_encoding)
-              << ", \"messages\": " << s.messages << ", \"first_log_time_ns\": " << s.first_ns
-              << ", \"last_log_time_ns\": " << s.last_ns;
+    io::Json ch;
+    ch["id"] = c->id;
+    ch["topic"] = c->topic;
+    ch["schema"] = schema ? schema->name : std::string();
+    ch["message_encoding"] = c->message_encoding;
+    ch["messages"] = s.messages;
+    ch["first_log_time_ns"] = s.first_ns;
+    ch["last_log_time_ns"] = s.last_ns;
     if (decode) {
-      std::cout << ", \"decoded\": " << (s.decodable ? "true" : "false")
-                << ", \"decode_errors\": " << s.decode_errors;
-      if (s.decode_errors > 0)
-        std::cout << ", \"first_decode_error\": " << json_string(s.first_error);
+      ch["decoded"] = s.decodable;
+      ch["decode_errors"] = s.decode_errors;
+      if (s.decode_errors > 0) ch["first_decode_error"] = s.first_error;
     }
-    std::cout << "}";
-    first = false;
+    channels.push_back(std::move(ch));
   }
-  std::cout << "\n  ],\n  \"issues\": [";
-  first = true;
+  io::Json& issues = j["issues"] = io::Json::array();
   for (const auto& issue : reader->issues()) {
-    std::cout << (first ? "\n" : ",\n") << "    {\"kind\": " << json_string(to_string(issue.kind))
-              << ", \"offset\": " << issue.offset << ", \"message\": " << json_string(issue.message)
-              << "}";
-    first = false;
+    issues.push_back({{"kind", std::string(to_string(issue.kind))},
+                      {"offset", issue.offset},
+                      {"message", issue.message}});
   }
-  std::cout << "\n  ]\n}\n";
+  std::cout << io::json_lines(j) << "\n";
   return reader->issues().empty() && decode_errors == 0 ? 0 : 1;
 }
 
@@ -160,10 +159,14 @@ void add_mcap_command(CLI::App& app, ExitCode& exit_code) {
                                std::to_string(r.last_stamp_ns) + " ns";
       if (r.damage.damaged())
         std::cerr << "vigs mcap oni: " << io::mcap::damage_warning(r.damage, used) << "\n";
-      std::cout << "{\"oni\": " << json_string(out) << ", \"frames\": " << r.frames
-                << ", \"unmatched\": " << r.unmatched << ", \"fps\": " << r.fps
-                << ", \"width\": " << r.width << ", \"height\": " << r.height
-                << ", \"input_damage\": " << io::mcap::damage_json(r.damage, used) << "}\n";
+      std::cout << io::json_line({{"oni", out},
+                                  {"frames", r.frames},
+                                  {"unmatched", r.unmatched},
+                                  {"fps", io::rounded(r.fps, 6)},
+                                  {"width", r.width},
+                                  {"height", r.height},
+                                  {"input_damage", io::mcap::damage_object(r.damage, used)}})
+                << "\n";
     } catch (const io::IoError& e) {
       std::cerr << e.what() << "\n";
       exit_code.value = 1;

@@ -7,9 +7,9 @@
 
 #include "apps/commands.hpp"
 #include "apps/frame_list.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/image_io.hpp"
+#include "io/json_text.hpp"
 #include "io/output_guard.hpp"
 #include "mapping/ply_io.hpp"
 #include "mapping/rasterizer.hpp"
@@ -49,12 +49,12 @@ void add_render_command(CLI::App& app, ExitCode& exit_code) {
       const PinholeCamera k = PinholeCamera::from_settings(cfg.camera);
       const Eigen::Isometry3d T_w_c = parse_pose_text(pose_text);
       const mapping::GaussianMap map = mapping::read_gaussian_ply(map_path);
-      mapping::WorkerPool pool(threads);
+      vigs::rt::WorkerTeam pool(threads, vigs::rt::ThreadSpec{.name = "mapper_w1"});
       mapping::Rasterizer<float> ras(mapping::RasterSettings{}, &pool);
       mapping::RenderResult<float> r;
       ras.forward(map, mapping::RenderCamera::from(k, T_w_c), r);
-      io::ImageU8 color(k.width_px, k.height_px, 3);
-      io::ImageU16 depth(k.width_px, k.height_px, 1);
+      ImageU8 color(k.width_px, k.height_px, 3);
+      ImageU16 depth(k.width_px, k.height_px, 1);
       const double scale = cfg.camera.depth_scale_m;
       for (std::size_t p = 0; p < r.depth.size(); ++p) {
         for (int c = 0; c < 3; ++c)
@@ -66,11 +66,14 @@ void add_render_command(CLI::App& app, ExitCode& exit_code) {
       }
       io::write_png(out_path, color);
       io::write_png_u16(depth_path, depth);
-      std::cout << "{\"map\": " << json_string(map_path) << ", \"gaussians\": " << map.size()
-                << ", \"visible_tile_pairs\": " << ras.tile_pairs()
-                << ", \"color\": " << json_string(out_path)
-                << ", \"depth\": " << json_string(depth_path)
-                << ", \"depth_scale_m\": " << json_number(scale) << "}\n";
+      io::Json j;
+      j["map"] = map_path;
+      j["gaussians"] = map.size();
+      j["visible_tile_pairs"] = ras.tile_pairs();
+      j["color"] = out_path;
+      j["depth"] = depth_path;
+      j["depth_scale_m"] = io::rounded(scale, 10);
+      std::cout << io::json_line(j) << "\n";
     } catch (const std::exception& e) {
       std::cerr << "vigs render: " << e.what() << "\n";
       exit_code.value = 1;

@@ -7,10 +7,11 @@
 #include <string>
 
 #include "apps/commands.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
+#include "io/json_text.hpp"
+#include "io/mcap/damage_object.hpp"
 #include "io/output_guard.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/results_writer.hpp"
@@ -33,46 +34,41 @@ std::string used_of(const pipeline::ReplayResult& r) {
          " and " + std::to_string(r.imu_samples) + " IMU samples";
 }
 
-std::string count(long v) {
-  return json_number(static_cast<double>(v));
-}
-
-/// stats.json: the keys eval::RunStats reads plus the replay's own counters.
-std::string stats_json(const pipeline::ReplayResult& r, const std::string& recording) {
+/// stats.json: the keys eval::RunStats reads plus the replay's own counters. Rates over no
+/// frames or no wall time are not defined and written as null.
+io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recording) {
   const pipeline::OdometryCounters& c = r.counters;
-  const double frames = static_cast<double>(r.frames.size());
-  std::string s = "{\n";
-  const auto add = [&s](const char* key, const std::string& value) {
-    if (s.size() > 2) s += ",\n";
-    s += std::string("  \"") + key + "\": " + value;
-  };
-  add("recording", json_string(recording));
-  add("guess", json_string(pipeline::to_string(r.guess)));
-  add("initial_pose", json_string(pipeline::to_string(r.initial_pose)));
-  add("frames", json_number(frames));
-  add("wall_s", json_number(r.wall_s));
-  add("fps", json_number(r.wall_s > 0 ? frames / r.wall_s : NAN));
-  add("track_ms_per_frame", json_number(frames > 0 ? 1e3 * r.track_s / frames : NAN));
-  add("peak_rss_bytes", json_number(pipeline::peak_rss_bytes()));
-  add("tracked", count(c.tracked));
-  add("lost", count(c.lost));
-  add("lost_low_inliers", count(c.lost_low_inliers));
-  add("lost_diverged", count(c.lost_diverged));
-  add("lost_degenerate", count(c.lost_degenerate));
-  add("keyframes", count(c.keyframes));
-  add("imu_guesses", count(c.imu_guesses));
-  add("imu_unavailable", count(c.imu_unavailable));
-  add("imu_resets", count(c.imu_resets));
-  add("imu_samples", count(static_cast<long>(r.imu_samples)));
-  add("imu_samples_fed", count(static_cast<long>(r.imu_samples_fed)));
-  add("frames_without_depth", count(static_cast<long>(r.frames_without_depth)));
-  add("input_damage", io::mcap::damage_json(r.damage, used_of(r)));
+  const std::size_t n = r.frames.size();
+  const double frames = static_cast<double>(n);
+  const auto num = [](double v) { return io::rounded(v, 10); };
+  io::Json s;
+  s["recording"] = recording;
+  s["guess"] = std::string(pipeline::to_string(r.guess));
+  s["initial_pose"] = std::string(pipeline::to_string(r.initial_pose));
+  s["frames"] = n;
+  s["wall_s"] = num(r.wall_s);
+  s["fps"] = r.wall_s > 0 ? num(frames / r.wall_s) : io::Json(nullptr);
+  s["track_ms_per_frame"] = n > 0 ? num(1e3 * r.track_s / frames) : io::Json(nullptr);
+  s["peak_rss_bytes"] = std::llround(pipeline::peak_rss_bytes());
+  s["tracked"] = c.tracked;
+  s["lost"] = c.lost;
+  s["lost_low_inliers"] = c.lost_low_inliers;
+  s["lost_diverged"] = c.lost_diverged;
+  s["lost_degenerate"] = c.lost_degenerate;
+  s["keyframes"] = c.keyframes;
+  s["imu_guesses"] = c.imu_guesses;
+  s["imu_unavailable"] = c.imu_unavailable;
+  s["imu_resets"] = c.imu_resets;
+  s["imu_samples"] = r.imu_samples;
+  s["imu_samples_fed"] = r.imu_samples_fed;
+  s["frames_without_depth"] = r.frames_without_depth;
+  s["input_damage"] = io::mcap::damage_object(r.damage, used_of(r));
   if (r.map) {
-    add("gaussians", count(static_cast<long>(r.map->size())));
-    add("map_iterations", count(r.map_iterations));
-    add("map_ms_per_frame", json_number(frames > 0 ? 1e3 * r.map_s / frames : NAN));
+    s["gaussians"] = r.map->size();
+    s["map_iterations"] = r.map_iterations;
+    s["map_ms_per_frame"] = n > 0 ? num(1e3 * r.map_s / frames) : io::Json(nullptr);
   }
-  return s + "\n}\n";
+  return s;
 }
 
 }  // namespace
@@ -126,9 +122,9 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                   : pipeline::replay_recording(a.recording, cfg, opt, progress);
       if (r.damage.damaged())
         std::cerr << "vigs replay: " << io::mcap::damage_warning(r.damage, used_of(r)) << "\n";
-      const std::string stats = stats_json(r, a.recording);
-      pipeline::write_results_dir(a.out, r, stats);
-      std::printf("{\"out\": %s, \"stats\": %s}\n", json_string(a.out).c_str(), stats.c_str());
+      const io::Json stats = stats_json(r, a.recording);
+      pipeline::write_results_dir(a.out, r, io::json_lines(stats) + "\n");
+      std::printf("%s\n", io::json_line({{"out", a.out}, {"stats", stats}}).c_str());
     } catch (const config::ConfigError& e) {
       std::cerr << "vigs replay: " << e.what() << "\n";
       exit_code.value = 1;

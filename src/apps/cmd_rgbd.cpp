@@ -5,10 +5,10 @@
 #include <string>
 
 #include "apps/commands.hpp"
-#include "apps/json_text.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "drivers/openni2/openni2_driver.hpp"
+#include "io/json_text.hpp"
 #include "rt/clock.hpp"
 #include "rt/frame_pool.hpp"
 #include "rt/spsc_ring.hpp"
@@ -22,18 +22,29 @@ struct PlayOptions {
   int width_px = 0;
   int height_px = 0;
   int ring_capacity = 64;
+  int frame_timeout_ms = 2000;
 };
 
-std::string counters_json(const drivers::RgbdDriverCounters& c) {
-  std::ostringstream s;
-  s << "{\"depth_read\": " << c.depth_read << ", \"colour_read\": " << c.colour_read
-    << ", \"frames_read\": " << c.frames_read << ", \"delivered\": " << c.delivered
-    << ", \"dropped_ring_full\": " << c.dropped_ring_full
-    << ", \"dropped_pool_empty\": " << c.dropped_pool_empty << ", \"unpaired\": " << c.unpaired
-    << ", \"size_mismatch\": " << c.size_mismatch << ", \"read_errors\": " << c.read_errors
-    << ", \"timeouts\": " << c.timeouts << ", \"clock_reanchors\": " << c.clock_reanchors
-    << ", \"end_of_stream\": " << (c.end_of_stream ? "true" : "false") << "}";
-  return s.str();
+io::Json counters_json(const drivers::RgbdDriverCounters& c) {
+  return {{"depth_read", c.depth_read},
+          {"colour_read", c.colour_read},
+          {"frames_read", c.frames_read},
+          {"delivered", c.delivered},
+          {"dropped_ring_full", c.dropped_ring_full},
+          {"dropped_pool_empty", c.dropped_pool_empty},
+          {"unpaired", c.unpaired},
+          {"size_mismatch", c.size_mismatch},
+          {"read_errors", c.read_errors},
+          {"timeouts", c.timeouts},
+          {"clock_reanchors", c.clock_reanchors},
+          {"opens", c.opens},
+          {"open_failures", c.open_failures},
+          {"losses", c.losses},
+          {"frame_timeouts", c.frame_timeouts},
+          {"error_resets", c.error_resets},
+          {"device_gone", c.device_gone},
+          {"reopens", c.reopens},
+          {"end_of_stream", c.end_of_stream}};
 }
 
 int run_play(const PlayOptions& o) {
@@ -45,6 +56,7 @@ int run_play(const PlayOptions& o) {
   s.uri = o.file;
   if (o.width_px > 0) s.width_px = static_cast<std::uint32_t>(o.width_px);
   if (o.height_px > 0) s.height_px = static_cast<std::uint32_t>(o.height_px);
+  s.frame_timeout_ms = o.frame_timeout_ms;
   s.realtime_thread = false;  // a diagnostic tool: no SCHED_FIFO or CPU pinning needed
   s.pin_cpu = false;
 
@@ -68,19 +80,31 @@ int run_play(const PlayOptions& o) {
     }
     if (!h.valid()) break;  // end-of-stream marker
     const rt::Frame& f = pool.frame(h);
-    std::cout << "{\"sequence\": " << f.sequence << ", \"t_ns\": " << f.t_ns << ", \"dt_ms\": "
-              << json_number(last_t_ns == 0 ? 0.0 : rt::ns_to_ms(f.t_ns - last_t_ns))
-              << ", \"centre_depth_mm\": " << f.depth[centre] << ", \"centre_rgb\": ["
-              << int{f.colour[3 * centre]} << ", " << int{f.colour[3 * centre + 1]} << ", "
-              << int{f.colour[3 * centre + 2]} << "]}\n";
+    io::Json j;
+    j["sequence"] = f.sequence;
+    j["t_ns"] = f.t_ns;
+    j["dt_ms"] = io::rounded(last_t_ns == 0 ? 0.0 : rt::ns_to_ms(f.t_ns - last_t_ns), 10);
+    j["centre_depth_mm"] = f.depth[centre];
+    j["centre_rgb"] = {int{f.colour[3 * centre]}, int{f.colour[3 * centre + 1]},
+                       int{f.colour[3 * centre + 2]}};
+    std::cout << io::json_line(j) << "\n";
     last_t_ns = f.t_ns;
     pool.release(h);
   }
   driver.stop();
   const drivers::RgbdDriverCounters c = driver.counters();
-  std::cout << "{\"file\": " << json_string(o.file) << ", \"width_px\": " << s.width_px
-            << ", \"height_px\": " << s.height_px << ", \"counters\": " << counters_json(c)
-            << "}\n";
+  std::cout << io::json_line({{"file", o.file},
+                              {"width_px", s.width_px},
+                              {"height_px", s.height_px},
+                              {"state", std::string(drivers::to_string(driver.state()))},
+                              {"fault", std::string(drivers::to_string(driver.fault()))},
+                              {"counters", counters_json(c)}})
+            << "\n";
+  if (driver.fault() != drivers::DeviceFault::kNone) {
+    // The frames before the fault were printed; the stream did not end cleanly.
+    std::cerr << "vigs rgbd play: " << driver.fault_message() << "\n";
+    return 1;
+  }
   return c.delivered > 0 ? 0 : 3;
 }
 
@@ -104,6 +128,9 @@ void add_rgbd_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::Range(1, 8192));
   p->add_option("--ring", play.ring_capacity, "driver-to-consumer ring capacity (power of two)")
       ->check(CLI::Range(1, 4096));
+  p->add_option("--frame-timeout-ms", play.frame_timeout_ms,
+                "playback watchdog: no frame for this long ends the stream as failed (exit 1)")
+      ->check(CLI::Range(100, 600000));
   p->callback([&exit_code] {
     try {
       exit_code.value = run_play(play);

@@ -15,6 +15,7 @@
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/io_error.hpp"
+#include "io/json_text.hpp"
 #include "io/output_guard.hpp"
 #include "sim/mcap_sink.hpp"
 #include "sim/simulator.hpp"
@@ -141,21 +142,27 @@ void add_simulate_command(CLI::App& app, ExitCode& exit_code) {
       getrusage(RUSAGE_SELF, &ru);
       const double cpu_s = static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
                            1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
-      std::printf(
-          "{\"out\": \"%s\", \"preset\": \"%s\", \"humans\": %d, \"seed\": %d, \"gray\": %s, "
-          "\"frames\": %lld, \"imu_samples\": %lld, \"sequence_s\": %.3f, "
-          "\"route_length_m\": %.1f, \"sequence_length_m\": %.1f, \"wall_s\": %.3f, \"render_s\": "
-          "%.3f, "
-          "\"wall_per_sequence_s\": %.3f, \"cpu_s\": %.3f, \"messages\": %llu, \"bytes\": %llu, "
-          "\"stopped_by_signal\": %s}\n",
-          a.out.c_str(), cfg.sim.preset.c_str(), cfg.sim.humans, cfg.sim.seed,
-          cfg.sim.gray ? "true" : "false", static_cast<long long>(stats.frames),
-          static_cast<long long>(stats.imu_samples), stats.sequence_s, stats.route_length_m,
-          stats.sequence_length_m, stats.wall_s, stats.render_s,
-          stats.wall_s / std::max(stats.sequence_s, 1e-9), cpu_s,
-          static_cast<unsigned long long>(sink.stats().message_count),
-          static_cast<unsigned long long>(sink.stats().bytes_written),
-          stats.stopped ? (g_signal.load() == SIGINT ? "\"SIGINT\"" : "\"SIGTERM\"") : "null");
+      io::Json j;
+      j["out"] = a.out;
+      j["preset"] = cfg.sim.preset;
+      j["humans"] = cfg.sim.humans;
+      j["seed"] = cfg.sim.seed;
+      j["gray"] = cfg.sim.gray;
+      j["frames"] = stats.frames;
+      j["imu_samples"] = stats.imu_samples;
+      j["sequence_s"] = io::fixed(stats.sequence_s, 3);
+      j["route_length_m"] = io::fixed(stats.route_length_m, 1);
+      j["sequence_length_m"] = io::fixed(stats.sequence_length_m, 1);
+      j["wall_s"] = io::fixed(stats.wall_s, 3);
+      j["render_s"] = io::fixed(stats.render_s, 3);
+      j["wall_per_sequence_s"] = io::fixed(stats.wall_s / std::max(stats.sequence_s, 1e-9), 3);
+      j["cpu_s"] = io::fixed(cpu_s, 3);
+      j["messages"] = sink.stats().message_count;
+      j["bytes"] = sink.stats().bytes_written;
+      j["stopped_by_signal"] = stats.stopped
+                                   ? io::Json(g_signal.load() == SIGINT ? "SIGINT" : "SIGTERM")
+                                   : io::Json(nullptr);
+      std::printf("%s\n", io::json_line(j).c_str());
     } catch (const config::ConfigError& e) {
       std::cerr << "vigs simulate: " << e.what() << "\n";
       exit_code.value = 1;

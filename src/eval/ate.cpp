@@ -51,13 +51,18 @@ AteResult compute_ate(const Trajectory& gt, const Trajectory& est, const AteOpti
   return r;
 }
 
+io::Json ate_to_json(const AteResult& r, const AteOptions& opt) {
+  io::Json j;
+  j["pairs"] = r.pairs;
+  add_stats_fields(j, r.stats);
+  j["align"] = alignment_name(opt.align);
+  j["scale"] = r.alignment.s;
+  j["max_dt_s"] = opt.max_dt_s;
+  return j;
+}
+
 std::string ate_json(const AteResult& r, const AteOptions& opt) {
-  char head[256];
-  std::snprintf(head, sizeof head, "{\"pairs\": %zu, ", r.pairs);
-  char tail[256];
-  std::snprintf(tail, sizeof tail, ", \"align\": \"%s\", \"scale\": %.17g, \"max_dt_s\": %.17g}",
-                alignment_name(opt.align), r.alignment.s, opt.max_dt_s);
-  return std::string(head) + stats_json_fields(r.stats) + tail;
+  return io::json_line(ate_to_json(r, opt));
 }
 
 }  // namespace vigs::eval

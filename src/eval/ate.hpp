@@ -32,6 +32,8 @@ struct AteResult {
 AteResult compute_ate(const Trajectory& gt, const Trajectory& est, const AteOptions& opt);
 
 /// One JSON object: pairs, rmse, mean, median, std, min, max, sse, align, scale.
+io::Json ate_to_json(const AteResult& r, const AteOptions& opt);
+/// ate_to_json on one line; throws io::JsonNonFiniteError if a figure is NaN/Inf.
 std::string ate_json(const AteResult& r, const AteOptions& opt);
 
 /// Associated (gt index, est index) pairs, with the format check shared by ATE and RPE.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace vigs::eval {
 
@@ -30,13 +29,14 @@ ErrorStats compute_stats(std::vector<double> errors) {
   return s;
 }
 
-std::string stats_json_fields(const ErrorStats& s) {
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "\"rmse\": %.17g, \"mean\": %.17g, \"median\": %.17g, \"std\": %.17g, "
-                "\"min\": %.17g, \"max\": %.17g, \"sse\": %.17g",
-                s.rmse, s.mean, s.median, s.std, s.min, s.max, s.sse);
-  return buf;
+void add_stats_fields(io::Json& j, const ErrorStats& s) {
+  j["rmse"] = s.rmse;
+  j["mean"] = s.mean;
+  j["median"] = s.median;
+  j["std"] = s.std;
+  j["min"] = s.min;
+  j["max"] = s.max;
+  j["sse"] = s.sse;
 }
 
 }  // namespace vigs::eval

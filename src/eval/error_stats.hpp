@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "io/json_text.hpp"
+
 namespace vigs::eval {
 
 struct ErrorStats {
@@ -20,7 +22,7 @@ struct ErrorStats {
 
 ErrorStats compute_stats(std::vector<double> errors);
 
-/// `"rmse": ..., "mean": ...` (no braces), numbers with 17 significant digits.
-std::string stats_json_fields(const ErrorStats& s);
+/// Adds "rmse", "mean", "median", "std", "min", "max", "sse" to the object `j`.
+void add_stats_fields(io::Json& j, const ErrorStats& s);
 
 }  // namespace vigs::eval

@@ -1,9 +1,12 @@
 #include "eval/mcap_frames.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "io/io_error.hpp"
 #include "io/mcap/damage_report.hpp"
@@ -16,31 +19,56 @@
 namespace vigs::eval {
 namespace {
 
+/// The reader's reusable pixel buffers: after the first frame no per-frame allocation.
+struct FrameBuffers {
+  std::vector<std::uint8_t> rgb;  // bgr8 converted to rgb8
+  std::vector<std::uint16_t> depth_u16;
+  std::vector<float> depth_f32;
+};
+
 /// Gives the pending frame its depth when stamp and size match and the encoding is known.
 /// A depth image of the frame's stamp and size whose step or data do not hold it is an error.
-void attach_depth(const io::ros_msgs::Image& img, bool pending, RecordedFrame& f,
-                  const std::string& where) {
+void attach_depth(const io::ros_msgs::Image& img, bool pending, std::int64_t tolerance_ns,
+                  FrameBuffers& buf, RecordedFrame& f, const std::string& where) {
   if (!pending) return;
-  if (static_cast<double>(img.header.stamp.to_ns()) * 1e-9 != f.t_s) return;
-  if (img.width != static_cast<std::uint32_t>(f.rgb.width) ||
-      img.height != static_cast<std::uint32_t>(f.rgb.height) || img.is_bigendian)
+  const std::int64_t dt_ns = img.header.stamp.to_ns() - f.view.t_ns;
+  if (dt_ns > tolerance_ns || dt_ns < -tolerance_ns) return;
+  if (img.width != static_cast<std::uint32_t>(f.view.width_px) ||
+      img.height != static_cast<std::uint32_t>(f.view.height_px) || img.is_bigendian)
     return;
-  const int w = f.rgb.width, h = f.rgb.height;
+  const int w = f.view.width_px, h = f.view.height_px;
   const int bytes = img.encoding == "16UC1" ? 2 : img.encoding == "32FC1" ? 4 : 0;
   if (bytes == 0) return;
   io::ros_msgs::check_image(where, img, static_cast<std::uint64_t>(bytes));
-  f.depth_m = io::ImageF32(w, h, 1);
+  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (bytes == 2) {
+    buf.depth_u16.resize(n);
+  } else {
+    buf.depth_f32.resize(n);
+  }
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* row = img.data.data() + static_cast<std::size_t>(y) * img.step;
-    for (int x = 0; x < w; ++x) {
-      float z = 0;
-      if (bytes == 2) {
-        z = static_cast<float>(row[2 * x] | (row[2 * x + 1] << 8)) * 1e-3f;
-      } else {
-        std::memcpy(&z, row + 4 * x, 4);
-      }
-      f.depth_m.at(x, y) = std::isfinite(z) && z > 0 ? z : 0.0f;
+    const std::size_t at = static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    if (bytes == 2) {
+      for (int x = 0; x < w; ++x)
+        buf.depth_u16[at + static_cast<std::size_t>(x)] =
+            static_cast<std::uint16_t>(row[2 * x] | (row[2 * x + 1] << 8));
+    } else {
+      float* out = buf.depth_f32.data() + at;
+      std::memcpy(out, row, static_cast<std::size_t>(w) * 4);
+      // NaN, Inf and negative depths (hostile or invalid pixels) become 0 = no depth.
+      for (int x = 0; x < w; ++x)
+        if (!(std::isfinite(out[x]) && out[x] > 0)) out[x] = 0.0f;
     }
+  }
+  f.view.depth_row_stride = static_cast<std::size_t>(w);
+  if (bytes == 2) {
+    f.view.depth_encoding = DepthEncoding::u16_scaled;
+    f.view.depth_u16 = buf.depth_u16.data();
+    f.view.depth_scale_m = 1e-3f;  // 16UC1: millimetres (REP 118)
+  } else {
+    f.view.depth_encoding = DepthEncoding::f32_metres;
+    f.view.depth_f32_m = buf.depth_f32.data();
   }
 }
 
@@ -49,14 +77,17 @@ void attach_depth(const io::ros_msgs::Image& img, bool pending, RecordedFrame& f
 McapFrameStats for_each_recorded_frame(const std::string& path,
                                        const std::function<void(const RecordedFrame&)>& fn,
                                        const std::string& rgb_topic, const std::string& info_topic,
-                                       const std::string& depth_topic) {
+                                       const std::string& depth_topic,
+                                       std::int64_t depth_tolerance_ns) {
   McapFrameStats st;
   io::mcap::McapReaderOptions opt;
   opt.topics = {rgb_topic, info_topic, depth_topic};
   io::mcap::McapReader reader(path, opt);
   io::mcap::MessageView m;
   io::ros_msgs::CameraInfo info;
-  io::ros_msgs::Image img;
+  io::ros_msgs::Image img;     // the message being decoded
+  io::ros_msgs::Image colour;  // the pending frame's colour message, viewed in place
+  FrameBuffers buf;
   std::optional<PinholeCamera> camera;
   RecordedFrame f;
   bool pending = false;  // f waits for its depth image
@@ -88,7 +119,7 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
       }
       if (!io::ros_msgs::decode_message(m, img)) throw where("not sensor_msgs/Image");
       if (m.channel->topic == depth_topic) {
-        attach_depth(img, pending, f, record());
+        attach_depth(img, pending, depth_tolerance_ns, buf, f, record());
         flush();
         continue;
       }
@@ -115,20 +146,32 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
     // are range-checked already).
     io::ros_msgs::check_image(record(), img, static_cast<std::uint64_t>(ch));
     const int w = camera->width_px, h = camera->height_px;
+    std::swap(colour, img);  // keeps the pixels while the depth message is decoded into img
     f.index = i;
-    f.t_s = static_cast<double>(img.header.stamp.to_ns()) * 1e-9;
     f.camera = *camera;
-    f.rgb = io::ImageU8(w, h, 3);
-    for (int y = 0; y < h; ++y) {
-      const std::uint8_t* row = img.data.data() + static_cast<std::size_t>(y) * img.step;
-      for (int x = 0; x < w; ++x) {
-        for (int c = 0; c < 3; ++c) {
-          const int src = ch == 1 ? 0 : (img.encoding == "bgr8" ? 2 - c : c);
-          f.rgb.at(x, y, c) = row[x * ch + src];
+    f.view = RgbdView{};
+    f.view.t_ns = colour.header.stamp.to_ns();
+    f.view.width_px = w;
+    f.view.height_px = h;
+    if (colour.encoding == "bgr8") {
+      buf.rgb.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+      for (int y = 0; y < h; ++y) {
+        const std::uint8_t* row = colour.data.data() + static_cast<std::size_t>(y) * colour.step;
+        std::uint8_t* out = buf.rgb.data() + static_cast<std::size_t>(y) * w * 3;
+        for (int x = 0; x < 3 * w; x += 3) {
+          out[x] = row[x + 2];
+          out[x + 1] = row[x + 1];
+          out[x + 2] = row[x];
         }
       }
+      f.view.colour_encoding = ColourEncoding::rgb8;
+      f.view.colour = buf.rgb.data();
+      f.view.colour_row_stride = static_cast<std::size_t>(w) * 3;
+    } else {
+      f.view.colour_encoding = ch == 1 ? ColourEncoding::mono8 : ColourEncoding::rgb8;
+      f.view.colour = colour.data.data();
+      f.view.colour_row_stride = colour.step;
     }
-    f.depth_m = io::ImageF32();
     pending = true;
   }
   flush();

@@ -1,16 +1,18 @@
 #pragma once
-// Recorded colour frames from an MCAP recording, streamed one at a time: each sensor_msgs/Image
-// on the colour topic ("rgb8", "bgr8" or "mono8", converted to RGB) with the intrinsics of the
-// latest sensor_msgs/CameraInfo on the info topic (the simulator writes one before every frame),
-// and the depth image on the depth topic with the same stamp, when it directly follows
-// ("16UC1" millimetres or "32FC1" metres; other encodings or sizes leave the frame without
-// depth).
+// Recorded colour frames from an MCAP recording, streamed one at a time as RgbdViews
+// (core/types/rgbd_view.hpp): each sensor_msgs/Image on the colour topic ("rgb8" and "mono8"
+// viewed in place, "bgr8" converted to RGB) with the intrinsics of the latest
+// sensor_msgs/CameraInfo on the info topic (the simulator writes one before every frame), and
+// the depth image on the depth topic when it directly follows and its stamp is within
+// `depth_tolerance_ns` of the colour's ("16UC1" millimetres or "32FC1" metres, copied out of
+// the message into a buffer reused from frame to frame; other encodings or sizes leave the
+// frame without depth). Stamps stay integer nanoseconds (header stamps).
 #include <cstdint>
 #include <functional>
 #include <string>
 
 #include "core/types/pinhole_camera.hpp"
-#include "io/image.hpp"
+#include "core/types/rgbd_view.hpp"
 #include "io/mcap/damage_report.hpp"
 
 namespace vigs::eval {
@@ -19,12 +21,19 @@ inline constexpr const char* kRgbTopic = "/vigs/rgb";
 inline constexpr const char* kCameraInfoTopic = "/vigs/camera_info";
 inline constexpr const char* kDepthTopic = "/vigs/depth";
 
+/// Largest |t_depth - t_colour| still paired. Registered depth and colour of one capture carry
+/// the same stamp (the simulator, uHumans, the RGB-D driver's pool frames); 1 ms also pairs
+/// recorders that stamp the two images separately, and stays far below a frame period
+/// (33-50 ms), so a neighbouring frame's depth is never taken.
+inline constexpr std::int64_t kDepthPairToleranceNs = 1'000'000;
+
+/// Valid only during the callback: `view` points into the reader's message buffers.
 struct RecordedFrame {
   std::uint64_t index = 0;  ///< 0-based position among the colour messages
-  double t_s = 0;           ///< header stamp
   PinholeCamera camera;     ///< from the latest CameraInfo
-  io::ImageU8 rgb;          ///< 3 channels
-  io::ImageF32 depth_m;     ///< same size, metres, 0 = invalid; empty when not recorded
+  /// t_ns = the colour image's header stamp; colour rgb8 or mono8; depth u16 (mm) or f32 (m),
+  /// or none when not recorded.
+  RgbdView view;
 };
 
 struct McapFrameStats {
@@ -45,6 +54,7 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
                                        const std::function<void(const RecordedFrame&)>& fn,
                                        const std::string& rgb_topic = kRgbTopic,
                                        const std::string& info_topic = kCameraInfoTopic,
-                                       const std::string& depth_topic = kDepthTopic);
+                                       const std::string& depth_topic = kDepthTopic,
+                                       std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
 
 }  // namespace vigs::eval

@@ -50,7 +50,7 @@ std::string fmt(const char* f, double v) {
 }
 
 /// PSNR (peak 255) over the pixels whose mask is set.
-double masked_psnr(const io::ImageU8& a, const io::ImageU8& b, const std::vector<double>& mask) {
+double masked_psnr(const ImageU8& a, const ImageU8& b, const std::vector<double>& mask) {
   double se = 0;
   std::size_t n = 0;
   for (std::size_t p = 0; p < mask.size(); ++p) {
@@ -92,10 +92,10 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
   if (opt.every < 1) throw std::invalid_argument("render quality: every must be >= 1");
   if (opt.threads < 1) throw std::invalid_argument("render quality: threads must be >= 1");
   RenderQuality q;
-  mapping::WorkerPool pool(opt.threads);
+  vigs::rt::WorkerTeam pool(opt.threads, vigs::rt::ThreadSpec{.name = "mapper_w1"});
   mapping::Rasterizer<float> ras(mapping::RasterSettings{}, &pool);
   mapping::RenderResult<float> r;
-  io::ImageU8 rendered;
+  ImageU8 rendered;
   // Side-by-side rows: the first every-n-th frame at or after evenly spaced times of the
   // estimate's span.
   std::vector<double> targets;
@@ -105,55 +105,61 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
       targets.push_back(t0 + (t1 - t0) * (k + 0.5) / opt.side_by_side_rows);
   }
   std::size_t next_target = 0;
-  io::ImageU8 sbs;
+  ImageU8 sbs;
   std::uint64_t held_out_seen = 0;
   mapping::SsimOptions so;  // the convention of mapping::image_quality with kGaussian11
   so.data_range = 255.0;
   mapping::Ssim<double> masked_ssim(so);
   std::vector<double> ref, test, mask;
-  const auto stats = for_each_recorded_frame(mcap_path, [&](const RecordedFrame& f) {
-    const bool keyframe = keyframe_t_s && near_any(*keyframe_t_s, f.t_s, opt.keyframe_tol_s);
+  ImageU8 f_rgb;       // the frame's colour as RGB
+  ImageF32 f_depth_m;  // and depth, 0 = no measurement
+  const auto stats = for_each_recorded_frame(mcap_path, [&](const RecordedFrame& rec) {
+    const double t_s = static_cast<double>(rec.view.t_ns) * 1e-9;  // header stamp
+    const bool keyframe = keyframe_t_s && near_any(*keyframe_t_s, t_s, opt.keyframe_tol_s);
     if (keyframe) ++q.keyframe_frames;
-    const bool in_nth = f.index % static_cast<std::uint64_t>(opt.every) == 0;
+    const bool in_nth = rec.index % static_cast<std::uint64_t>(opt.every) == 0;
     bool in_held_out = false;
     if (!keyframe && keyframe_t_s) {
       in_held_out = held_out_seen % static_cast<std::uint64_t>(opt.every) == 0;
       ++held_out_seen;
     }
     if (!in_nth && !in_held_out) return;
-    const long pi = nearest_pose(T_w_c, f.t_s, opt.max_dt_s);
+    const long pi = nearest_pose(T_w_c, t_s, opt.max_dt_s);
     if (pi < 0) {
       ++q.frames_without_pose;
       return;
     }
+    copy_rgb8(rec.view, f_rgb);
+    const bool has_depth = rec.view.has_depth();
+    if (has_depth) copy_depth_m(rec.view, f_depth_m);
     const auto& T = T_w_c.poses[static_cast<std::size_t>(pi)].T_w_x;
-    ras.forward(map, mapping::RenderCamera::from(f.camera, T), r);
-    rendered = io::ImageU8(f.rgb.width, f.rgb.height, 3);
+    ras.forward(map, mapping::RenderCamera::from(rec.camera, T), r);
+    rendered = ImageU8(f_rgb.width, f_rgb.height, 3);
     for (std::size_t i = 0; i < rendered.data.size(); ++i)
       rendered.data[i] =
           static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(r.color[i], 0.0f, 1.0f)));
-    const auto iq = mapping::image_quality(f.rgb, rendered, mapping::SsimWindow::kGaussian11);
+    const auto iq = mapping::image_quality(f_rgb, rendered, mapping::SsimWindow::kGaussian11);
     double psnr_v = std::numeric_limits<double>::quiet_NaN(), ssim_v = psnr_v;
-    if (!f.depth_m.empty()) {
-      mask.resize(f.depth_m.data.size());
+    if (has_depth) {
+      mask.resize(f_depth_m.data.size());
       bool any = false;
       for (std::size_t p = 0; p < mask.size(); ++p) {
-        mask[p] = f.depth_m.data[p] > 0 ? 1.0 : 0.0;
+        mask[p] = f_depth_m.data[p] > 0 ? 1.0 : 0.0;
         any = any || mask[p] != 0;
       }
       if (any) {
-        ref.assign(f.rgb.data.begin(), f.rgb.data.end());
+        ref.assign(f_rgb.data.begin(), f_rgb.data.end());
         test.assign(rendered.data.begin(), rendered.data.end());
-        psnr_v = masked_psnr(f.rgb, rendered, mask);
-        ssim_v = masked_ssim.evaluate(test.data(), ref.data(), f.rgb.width, f.rgb.height, 3,
+        psnr_v = masked_psnr(f_rgb, rendered, mask);
+        ssim_v = masked_ssim.evaluate(test.data(), ref.data(), f_rgb.width, f_rgb.height, 3,
                                       mask.data(), nullptr);
       }
     }
-    q.image_width = f.rgb.width;
-    q.image_height = f.rgb.height;
+    q.image_width = f_rgb.width;
+    q.image_height = f_rgb.height;
     for (auto [set, on] : {std::pair{&q.every_nth, in_nth}, std::pair{&q.held_out, in_held_out}}) {
       if (!on) continue;
-      set->t_s.push_back(f.t_s);
+      set->t_s.push_back(t_s);
       set->psnr_db.push_back(iq.psnr_db);
       set->ssim.push_back(iq.ssim);
       if (!std::isnan(psnr_v)) {
@@ -161,19 +167,19 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
         set->ssim_valid_depth.push_back(ssim_v);
       }
     }
-    if (in_nth && next_target < targets.size() && f.t_s >= targets[next_target]) {
-      while (next_target < targets.size() && f.t_s >= targets[next_target]) ++next_target;
-      const int w = f.rgb.width, h = f.rgb.height;
+    if (in_nth && next_target < targets.size() && t_s >= targets[next_target]) {
+      while (next_target < targets.size() && t_s >= targets[next_target]) ++next_target;
+      const int w = f_rgb.width, h = f_rgb.height;
       const int row = static_cast<int>(q.side_by_side_t_s.size());
-      if (sbs.empty()) sbs = io::ImageU8(2 * w, h * opt.side_by_side_rows, 3);
+      if (sbs.empty()) sbs = ImageU8(2 * w, h * opt.side_by_side_rows, 3);
       if (sbs.width != 2 * w || sbs.height != h * opt.side_by_side_rows) return;  // size changed
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
           for (int c = 0; c < 3; ++c) {
             sbs.at(x, row * h + y, c) = rendered.at(x, y, c);
-            sbs.at(w + x, row * h + y, c) = f.rgb.at(x, y, c);
+            sbs.at(w + x, row * h + y, c) = f_rgb.at(x, y, c);
           }
-      q.side_by_side_t_s.push_back(f.t_s);
+      q.side_by_side_t_s.push_back(t_s);
     }
   });
   q.damage = stats.damage;

@@ -12,6 +12,8 @@
 #include "eval/mcap_trajectory.hpp"
 #include "eval/trajectory_file.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_text.hpp"
+#include "io/mcap/damage_object.hpp"
 #include "mapping/ply_io.hpp"
 
 namespace vigs::eval {
@@ -304,49 +306,46 @@ ReportResult write_report(const ReportOptions& opt) {
 }
 
 std::string report_json(const ReportResult& r, const ReportOptions& opt) {
-  std::string plots = "[";
-  for (std::size_t i = 0; i < r.plots.size(); ++i) {
-    plots += (i ? ", \"" : "\"") + r.plots[i] + "\"";
-  }
-  plots += "]";
   RpeOptions rf;
   rf.max_dt_s = opt.ate.max_dt_s;
   rf.align = opt.ate.align == Alignment::kSim3 ? Alignment::kSim3 : Alignment::kNone;
-  std::string json = "{\"report\": \"" + r.report_path +
-                     "\", \"ate\": " + ate_json(r.ate, opt.ate) +
-                     ", \"rpe_frame\": " + rpe_json(r.rpe_frame, rf);
+  io::Json j;
+  j["report"] = r.report_path;
+  j["ate"] = ate_to_json(r.ate, opt.ate);
+  j["rpe_frame"] = rpe_to_json(r.rpe_frame, rf);
   if (r.rpe_metre.pairs > 0) {
     RpeOptions rm = rf;
     rm.unit = DeltaUnit::kMetres;
     rm.delta = opt.rpe_delta_m;
-    json += ", \"rpe_metre\": " + rpe_json(r.rpe_metre, rm);
+    j["rpe_metre"] = rpe_to_json(r.rpe_metre, rm);
   }
-  const auto num = [](double v) {
-    return std::isfinite(v) ? fmt("%.10g", v) : std::string("null");
+  // Means over an empty set (no frame with depth) are NaN: stated as null, i.e. not measured.
+  const auto set_json = [](const QualitySet& q) {
+    io::Json s;
+    s["frames"] = q.frames();
+    s["psnr_db"] = io::finite_or_null(q.mean_psnr_db());
+    s["ssim"] = io::finite_or_null(q.mean_ssim());
+    s["frames_with_depth"] = q.psnr_valid_depth_db.size();
+    s["psnr_valid_depth_db"] = io::finite_or_null(q.mean_psnr_valid_depth_db());
+    s["ssim_valid_depth"] = io::finite_or_null(q.mean_ssim_valid_depth());
+    return s;
   };
-  const auto set_json = [&](const QualitySet& q) {
-    return "{\"frames\": " + std::to_string(q.frames()) +
-           ", \"psnr_db\": " + num(q.mean_psnr_db()) + ", \"ssim\": " + num(q.mean_ssim()) +
-           ", \"frames_with_depth\": " + std::to_string(q.psnr_valid_depth_db.size()) +
-           ", \"psnr_valid_depth_db\": " + num(q.mean_psnr_valid_depth_db()) +
-           ", \"ssim_valid_depth\": " + num(q.mean_ssim_valid_depth()) + "}";
-  };
-  const auto opt_json = [&](const std::optional<double>& v) {
-    return v ? num(*v) : std::string("null");
-  };
-  json += ", \"plots\": " + plots;
+  j["plots"] = r.plots;
   if (r.quality_measured) {
-    json += ", \"quality\": {\"every_nth\": " + set_json(r.quality.every_nth) + ", \"held_out\": " +
-            (!r.have_keyframes ? std::string("null") : set_json(r.quality.held_out)) +
-            ", \"rendered_views\": \"" + r.quality.side_by_side_png + "\"}";
+    io::Json q;
+    q["every_nth"] = set_json(r.quality.every_nth);
+    q["held_out"] = r.have_keyframes ? set_json(r.quality.held_out) : io::Json(nullptr);
+    q["rendered_views"] = r.quality.side_by_side_png;
+    j["quality"] = std::move(q);
   } else {
-    json += ", \"quality\": null";
+    j["quality"] = nullptr;
   }
-  json += ", \"gaussians\": " + (r.gaussians >= 0 ? std::to_string(r.gaussians) : "null");
-  json += ", \"input_damage\": " + io::mcap::damage_json(r.input_damage, r.input_damage_used);
-  json += ", \"fps\": " + opt_json(r.run_stats.fps) +
-          ", \"peak_rss_bytes\": " + opt_json(r.run_stats.peak_rss_bytes) + ", \"lpips\": null}";
-  return json;
+  j["gaussians"] = r.gaussians >= 0 ? io::Json(r.gaussians) : io::Json(nullptr);
+  j["input_damage"] = io::mcap::damage_object(r.input_damage, r.input_damage_used);
+  j["fps"] = io::finite_or_null(r.run_stats.fps);
+  j["peak_rss_bytes"] = io::finite_or_null(r.run_stats.peak_rss_bytes);
+  j["lpips"] = nullptr;
+  return io::json_line(j);
 }
 
 }  // namespace vigs::eval

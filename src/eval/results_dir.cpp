@@ -1,10 +1,14 @@
 #include "eval/results_dir.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <utility>
+
+#include "io/json_text.hpp"
 
 namespace vigs::eval {
 namespace {
@@ -17,128 +21,76 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-/// A small JSON reader: the top-level object's members, numbers kept, anything else skipped.
-class JsonScanner {
- public:
-  JsonScanner(const std::string& text, const std::string& name) : s_(text), name_(name) {}
+/// Byte offset (0-based) of a nlohmann parse error: the start of the offending token, or the
+/// text's end when the input ran out. nlohmann reports the 1-based position of the last byte
+/// it read; stepping back over a bare word ("fast", "12.5e") names where the bad value starts.
+std::size_t error_offset(const std::string& text, std::size_t last_read_1based, bool at_end) {
+  if (at_end || last_read_1based == 0 || last_read_1based > text.size()) return text.size();
+  std::size_t at = last_read_1based - 1;
+  const auto word = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '+' || c == '-' || c == '.';
+  };
+  if (word(text[at])) {
+    while (at > 0 && word(text[at - 1])) --at;
+  }
+  return at;
+}
 
-  [[noreturn]] void fail(const std::string& what) const {
-    throw ResultsFileError(name_ + ": byte " + std::to_string(i_) + ": " + what);
+/// The file's one JSON object, parsed by nlohmann-json. Messages keep the form
+/// "NAME: byte N: what" with the wording the RESULTS_DIR contract has always used.
+io::Json parse_object(const std::string& text, const std::string& name) {
+  const std::size_t first = text.find_first_not_of(" \t\n\r");
+  if (first == std::string::npos || text[first] != '{') {
+    throw ResultsFileError(name + ": byte " +
+                           std::to_string(first == std::string::npos ? text.size() : first) +
+                           ": expected '{'");
   }
-  void ws() {
-    while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\t' || s_[i_] == '\n' || s_[i_] == '\r'))
-      ++i_;
-  }
-  bool peek(char c) {
-    ws();
-    return i_ < s_.size() && s_[i_] == c;
-  }
-  void expect(char c) {
-    if (!peek(c)) fail(std::string("expected '") + c + "'");
-    ++i_;
-  }
-  std::string string() {
-    expect('"');
-    std::string out;
-    while (i_ < s_.size() && s_[i_] != '"') {
-      if (s_[i_] == '\\') {
-        if (++i_ >= s_.size()) break;
-        if (s_[i_] == 'u') i_ += 4;  // key names we look for are plain ASCII
-      }
-      out += s_[i_++];
-    }
-    if (i_ >= s_.size()) fail("unterminated string");
-    ++i_;
-    return out;
-  }
-  /// A value: returns the number, nullopt for null; other kinds are skipped (kind set).
-  std::optional<double> value(bool& is_number, bool& is_null) {
-    ws();
-    is_number = is_null = false;
-    if (i_ >= s_.size()) fail("value expected");
-    const char c = s_[i_];
-    if (c == '"') {
-      string();
-    } else if (c == '{' || c == '[') {
-      skip_nested();
-    } else if (s_.compare(i_, 4, "null") == 0) {
-      i_ += 4;
-      is_null = true;
-    } else if (s_.compare(i_, 4, "true") == 0) {
-      i_ += 4;
-    } else if (s_.compare(i_, 5, "false") == 0) {
-      i_ += 5;
+  try {
+    return io::Json::parse(text);
+  } catch (const io::Json::parse_error& e) {
+    const std::string msg = e.what();
+    const bool at_end = msg.find("unexpected end of input") != std::string::npos;
+    std::string what;
+    if (msg.find("expected end of input") != std::string::npos && !at_end) {
+      what = "trailing text after the object";
+    } else if (at_end) {
+      what = "unterminated object or array";
+    } else if (msg.find("expected string literal") != std::string::npos) {
+      what = "expected '\"'";
     } else {
-      double v = 0;
-      const auto r = std::from_chars(s_.data() + i_, s_.data() + s_.size(), v);
-      if (r.ec != std::errc() || !std::isfinite(v)) fail("not a JSON value");
-      i_ = static_cast<std::size_t>(r.ptr - s_.data());
-      is_number = true;
-      return v;
+      // nlohmann's own description, without its "[json.exception...] ..., column N: " prefix.
+      const std::size_t colon = msg.find(": ", msg.find("column"));
+      what = colon == std::string::npos ? msg : msg.substr(colon + 2);
     }
-    return std::nullopt;
+    throw ResultsFileError(name + ": byte " + std::to_string(error_offset(text, e.byte, at_end)) +
+                           ": " + what);
+  } catch (const io::Json::exception& e) {  // e.g. a number out of double range
+    throw ResultsFileError(name + ": " + e.what());
   }
-  bool at_end() {
-    ws();
-    return i_ >= s_.size();
-  }
-
- private:
-  void skip_nested() {
-    int depth = 0;
-    do {
-      if (i_ >= s_.size()) fail("unterminated object or array");
-      const char c = s_[i_];
-      if (c == '"') {
-        string();
-        continue;
-      }
-      if (c == '{' || c == '[') ++depth;
-      if (c == '}' || c == ']') --depth;
-      ++i_;
-    } while (depth > 0);
-  }
-  const std::string& s_;
-  const std::string& name_;
-  std::size_t i_ = 0;
-};
+}
 
 }  // namespace
 
 RunStats parse_run_stats(const std::string& text, const std::string& name) {
-  JsonScanner js(text, name);
+  const io::Json doc = parse_object(text, name);
   RunStats st;
-  js.expect('{');
-  if (js.peek('}')) {
-    js.expect('}');
-  } else {
-    for (;;) {
-      const std::string key = js.string();
-      js.expect(':');
-      bool is_number = false, is_null = false;
-      const std::optional<double> v = js.value(is_number, is_null);
-      std::optional<double>* slot = nullptr;
-      if (key == "frames") slot = &st.frames;
-      if (key == "wall_s") slot = &st.wall_s;
-      if (key == "fps") slot = &st.fps;
-      if (key == "peak_rss_bytes") slot = &st.peak_rss_bytes;
-      if (key == "gaussians") slot = &st.gaussians;
-      if (slot != nullptr) {
-        if (!is_number && !is_null)
-          throw ResultsFileError(name + ": key \"" + key + "\" must be a number or null");
-        if (is_number && *v < 0)
-          throw ResultsFileError(name + ": key \"" + key + "\" must not be negative");
-        *slot = v;
-      }
-      if (js.peek(',')) {
-        js.expect(',');
-        continue;
-      }
-      js.expect('}');
-      break;
+  const std::pair<const char*, std::optional<double>*> keys[] = {
+      {"frames", &st.frames},
+      {"wall_s", &st.wall_s},
+      {"fps", &st.fps},
+      {"peak_rss_bytes", &st.peak_rss_bytes},
+      {"gaussians", &st.gaussians},
+  };
+  for (const auto& [key, slot] : keys) {
+    const auto it = doc.find(key);
+    if (it == doc.end() || it->is_null()) continue;
+    if (!it->is_number()) {
+      throw ResultsFileError(name + ": key \"" + key + "\" must be a number or null");
     }
+    const double v = it->get<double>();
+    if (v < 0) throw ResultsFileError(name + ": key \"" + key + "\" must not be negative");
+    *slot = v;
   }
-  if (!js.at_end()) js.fail("trailing text after the object");
   return st;
 }
 

@@ -66,18 +66,23 @@ RpeResult compute_rpe(const Trajectory& gt, const Trajectory& est, const RpeOpti
   return r;
 }
 
+io::Json rpe_to_json(const RpeResult& r, const RpeOptions& opt) {
+  io::Json j;
+  j["associated"] = r.associated;
+  j["pairs"] = r.pairs;
+  j["delta"] = opt.delta;
+  j["delta_unit"] = opt.unit == DeltaUnit::kFrames   ? "frames"
+                    : opt.unit == DeltaUnit::kMetres ? "m"
+                                                     : "s";
+  j["align"] = alignment_name(opt.align);
+  j["scale"] = r.scale;
+  add_stats_fields(j["translation_m"] = io::Json::object(), r.translation_m);
+  add_stats_fields(j["rotation_deg"] = io::Json::object(), r.rotation_deg);
+  return j;
+}
+
 std::string rpe_json(const RpeResult& r, const RpeOptions& opt) {
-  char head[320];
-  std::snprintf(head, sizeof head,
-                "{\"associated\": %zu, \"pairs\": %zu, \"delta\": %.17g, \"delta_unit\": \"%s\", "
-                "\"align\": \"%s\", \"scale\": %.17g, \"translation_m\": {",
-                r.associated, r.pairs, opt.delta,
-                opt.unit == DeltaUnit::kFrames   ? "frames"
-                : opt.unit == DeltaUnit::kMetres ? "m"
-                                                 : "s",
-                alignment_name(opt.align), r.scale);
-  return std::string(head) + stats_json_fields(r.translation_m) + "}, \"rotation_deg\": {" +
-         stats_json_fields(r.rotation_deg) + "}}";
+  return io::json_line(rpe_to_json(r, opt));
 }
 
 }  // namespace vigs::eval

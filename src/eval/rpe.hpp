@@ -34,6 +34,8 @@ struct RpeResult {
 /// Throws std::invalid_argument when no pair is one delta apart.
 RpeResult compute_rpe(const Trajectory& gt, const Trajectory& est, const RpeOptions& opt);
 
+io::Json rpe_to_json(const RpeResult& r, const RpeOptions& opt);
+/// rpe_to_json on one line; throws io::JsonNonFiniteError if a figure is NaN/Inf.
 std::string rpe_json(const RpeResult& r, const RpeOptions& opt);
 
 }  // namespace vigs::eval

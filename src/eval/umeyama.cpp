@@ -1,7 +1,6 @@
 #include "eval/umeyama.hpp"
 
-#include <Eigen/LU>
-#include <Eigen/SVD>
+#include <Eigen/Geometry>
 #include <stdexcept>
 
 namespace vigs::eval {
@@ -33,32 +32,22 @@ Sim3 umeyama_align(const std::vector<Eigen::Vector3d>& from, const std::vector<E
   Sim3 out;
   if (mode == Alignment::kNone) return out;
   if (from.size() < 3) throw std::invalid_argument("umeyama: need at least 3 point pairs");
-  const double n = static_cast<double>(from.size());
-  Eigen::Vector3d mean_x = Eigen::Vector3d::Zero(), mean_y = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < from.size(); ++i) {
-    mean_x += from[i];
-    mean_y += to[i];
+  // std::vector<Vector3d> is contiguous xyz triples, so both sets are viewed as 3xN in place.
+  const auto n = static_cast<Eigen::Index>(from.size());
+  const Eigen::Map<const Eigen::Matrix3Xd> X(from.front().data(), 3, n);
+  const Eigen::Map<const Eigen::Matrix3Xd> Y(to.front().data(), 3, n);
+  const bool with_scale = mode == Alignment::kSim3;
+  // Eigen::umeyama divides by the source variance for the scale; coincident points would
+  // silently give inf/NaN, so they are refused here with the same message as before.
+  if (with_scale && (X.colwise() - X.rowwise().mean()).squaredNorm() <= 0.0) {
+    throw std::invalid_argument("umeyama: sim3 needs non-coincident points");
   }
-  mean_x /= n;
-  mean_y /= n;
-  double sigma_x = 0.0;
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (std::size_t i = 0; i < from.size(); ++i) {
-    const Eigen::Vector3d dx = from[i] - mean_x;
-    sigma_x += dx.squaredNorm();
-    cov += (to[i] - mean_y) * dx.transpose();
-  }
-  sigma_x /= n;
-  cov /= n;
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
-  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0.0) S(2, 2) = -1.0;
-  out.R = svd.matrixU() * S * svd.matrixV().transpose();
-  if (mode == Alignment::kSim3) {
-    if (sigma_x <= 0.0) throw std::invalid_argument("umeyama: sim3 needs non-coincident points");
-    out.s = (svd.singularValues().asDiagonal() * S).trace() / sigma_x;
-  }
-  out.t = mean_y - out.s * (out.R * mean_x);
+  const Eigen::Matrix4d T = Eigen::umeyama(X, Y, with_scale);
+  const Eigen::Matrix3d sR = T.topLeftCorner<3, 3>();
+  // Eigen returns [s R | t]; the scale is recovered from the (proper) rotation's column norm.
+  out.s = with_scale ? sR.col(0).norm() : 1.0;
+  out.R = sR / out.s;
+  out.t = T.topRightCorner<3, 1>();
   return out;
 }
 

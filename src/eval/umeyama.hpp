@@ -1,6 +1,8 @@
 #pragma once
 // Umeyama (1991) least-squares similarity between point sets: finds s, R, t minimising
 // sum_i |y_i - (s R x_i + t)|^2. se3 fixes s = 1, none returns the identity.
+// The solve is Eigen::umeyama (Eigen/Geometry); this header adds the evo-style mode names,
+// the input checks and the s/R/t split the ATE/RPE code uses.
 #include <Eigen/Core>
 #include <string>
 #include <vector>

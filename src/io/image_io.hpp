@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/image.hpp"
+#include "core/types/image.hpp"
 
 namespace vigs::io {
 

@@ -8,7 +8,7 @@
 namespace vigs::mapping {
 
 namespace {
-void check_same(const io::ImageU8& a, const io::ImageU8& b) {
+void check_same(const ImageU8& a, const ImageU8& b) {
   if (a.width != b.width || a.height != b.height || a.channels != b.channels)
     throw std::invalid_argument("images differ in size or channels: " + std::to_string(a.width) +
                                 "x" + std::to_string(a.height) + "x" + std::to_string(a.channels) +
@@ -18,7 +18,7 @@ void check_same(const io::ImageU8& a, const io::ImageU8& b) {
 }
 }  // namespace
 
-double psnr_u8(const io::ImageU8& ref, const io::ImageU8& test) {
+double psnr_u8(const ImageU8& ref, const ImageU8& test) {
   check_same(ref, test);
   double se = 0;
   for (std::size_t i = 0; i < ref.data.size(); ++i) {
@@ -30,7 +30,7 @@ double psnr_u8(const io::ImageU8& ref, const io::ImageU8& test) {
   return 10.0 * std::log10(255.0 * 255.0 / mse);
 }
 
-double ssim_u8(const io::ImageU8& ref, const io::ImageU8& test, SsimWindow window) {
+double ssim_u8(const ImageU8& ref, const ImageU8& test, SsimWindow window) {
   check_same(ref, test);
   std::vector<double> x(ref.data.begin(), ref.data.end()), y(test.data.begin(), test.data.end());
   SsimOptions o;
@@ -41,7 +41,7 @@ double ssim_u8(const io::ImageU8& ref, const io::ImageU8& test, SsimWindow windo
   return ssim.evaluate(y.data(), x.data(), ref.width, ref.height, ref.channels, nullptr, nullptr);
 }
 
-ImageQuality image_quality(const io::ImageU8& ref, const io::ImageU8& test, SsimWindow window) {
+ImageQuality image_quality(const ImageU8& ref, const ImageU8& test, SsimWindow window) {
   return {psnr_u8(ref, test), ssim_u8(ref, test, window)};
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Image quality of 8-bit images: PSNR (peak 255) and SSIM over valid windows with L = 255,
 // the mean over channels. Both images must have the same size and channel count.
-#include "io/image.hpp"
+#include "core/types/image.hpp"
 #include "mapping/ssim.hpp"
 
 namespace vigs::mapping {
@@ -12,11 +12,11 @@ struct ImageQuality {
 };
 
 /// Throws std::invalid_argument when the images differ in size or channels.
-double psnr_u8(const io::ImageU8& ref, const io::ImageU8& test);
-double ssim_u8(const io::ImageU8& ref, const io::ImageU8& test, SsimWindow window);
+double psnr_u8(const ImageU8& ref, const ImageU8& test);
+double ssim_u8(const ImageU8& ref, const ImageU8& test, SsimWindow window);
 
 /// The conventions the project reports: Gaussian 11x11 with population covariance (3DGS papers,
 /// pytorch-msssim), or scikit-image's default uniform 7x7 with sample covariance.
-ImageQuality image_quality(const io::ImageU8& ref, const io::ImageU8& test, SsimWindow window);
+ImageQuality image_quality(const ImageU8& ref, const ImageU8& test, SsimWindow window);
 
 }  // namespace vigs::mapping

@@ -5,7 +5,7 @@
 namespace vigs::mapping {
 
 template <class T>
-PhotometricLoss<T>::PhotometricLoss(LossSettings s, WorkerPool* pool)
+PhotometricLoss<T>::PhotometricLoss(LossSettings s, rt::WorkerTeam* pool)
     : s_(s), ssim_(SsimOptions{}, pool) {}
 
 template <class T>

@@ -26,7 +26,7 @@ struct LossTerms {
 template <class T>
 class PhotometricLoss {
  public:
-  explicit PhotometricLoss(LossSettings s = {}, WorkerPool* pool = nullptr);
+  explicit PhotometricLoss(LossSettings s = {}, rt::WorkerTeam* pool = nullptr);
 
   /// target_rgb: 3 per pixel in [0, 1]; target_depth_m: 1 per pixel, 0 = missing, may be null.
   /// Writes dL/d(colour) and dL/d(depth) (sizes 3 and 1 per pixel) when they are not null.

@@ -30,7 +30,7 @@ AdamSettings adam_settings_from(const config::MappingSettings& s) {
   return a;
 }
 
-MapOptimizer::MapOptimizer(const config::MappingSettings& s, WorkerPool* pool)
+MapOptimizer::MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* pool)
     : s_(s),
       raster_(RasterSettings{}, pool),
       loss_(LossSettings{s.lambda_ssim, s.lambda_depth}, pool),

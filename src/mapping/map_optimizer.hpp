@@ -31,7 +31,7 @@ std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s
 
 class MapOptimizer {
  public:
-  MapOptimizer(const config::MappingSettings& s, WorkerPool* pool);
+  MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* pool);
 
   /// One iteration; prunes (and returns the count in `pruned`) every prune_every iterations.
   LossTerms<float> iterate(GaussianMap& map, const TrainingView& view,

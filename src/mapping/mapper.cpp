@@ -6,7 +6,7 @@
 
 namespace vigs::mapping {
 
-Mapper::Mapper(const config::MappingSettings& s, KeyframeRing& ring, WorkerPool* pool,
+Mapper::Mapper(const config::MappingSettings& s, KeyframeRing& ring, rt::WorkerTeam* pool,
                std::size_t max_pending, std::size_t max_keyframes)
     : s_(s),
       ring_(ring),

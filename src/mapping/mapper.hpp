@@ -37,7 +37,7 @@ using KeyframeRing = rt::SpscRing<std::unique_ptr<MapperKeyframe>>;
 class Mapper {
  public:
   /// `ring` is consumed only from tick(). `pool` may be null.
-  Mapper(const config::MappingSettings& s, KeyframeRing& ring, WorkerPool* pool,
+  Mapper(const config::MappingSettings& s, KeyframeRing& ring, rt::WorkerTeam* pool,
          std::size_t max_pending = 4, std::size_t max_keyframes = 32);
 
   /// One mapper cycle: drain the ring, insert, iterations_per_tick iterations, publish a

@@ -25,7 +25,7 @@ inline void split(std::size_t n, int parts, int index, std::size_t& begin, std::
 }  // namespace
 
 template <class T>
-Rasterizer<T>::Rasterizer(RasterSettings settings, WorkerPool* pool)
+Rasterizer<T>::Rasterizer(RasterSettings settings, rt::WorkerTeam* pool)
     : settings_(settings), pool_(pool) {
   const auto n = static_cast<std::size_t>(threads());
   gather_.resize(n);

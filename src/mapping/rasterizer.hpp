@@ -2,8 +2,8 @@
 // Differentiable tiled splatting on the CPU: project every Gaussian, bin them into 16x16 tiles
 // in depth order, blend front to back (colour, depth = sum z alpha T, accumulated opacity), and
 // in backward traverse each pixel's contributors in reverse. Work is split over tiles across a
-// WorkerPool with a static schedule; backward gradients go to per-thread buffers that are summed
-// in a fixed order at the end (no atomics), so results are bit-identical run to run.
+// rt::WorkerTeam with a static schedule; backward gradients go to per-thread buffers that are
+// summed in a fixed order at the end (no atomics), so results are bit-identical run to run.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -12,7 +12,7 @@
 #include "mapping/raster_settings.hpp"
 #include "mapping/render_camera.hpp"
 #include "mapping/tile_kernels.hpp"
-#include "mapping/worker_pool.hpp"
+#include "rt/worker_team.hpp"
 
 namespace vigs::mapping {
 
@@ -41,7 +41,7 @@ template <class T>
 class Rasterizer {
  public:
   /// `pool` may be null (single thread); it must outlive the rasterizer.
-  explicit Rasterizer(RasterSettings settings = {}, WorkerPool* pool = nullptr);
+  explicit Rasterizer(RasterSettings settings = {}, rt::WorkerTeam* pool = nullptr);
 
   [[nodiscard]] const RasterSettings& settings() const { return settings_; }
   RasterSettings& settings() { return settings_; }
@@ -85,10 +85,10 @@ class Rasterizer {
   void bin_tiles(const RenderCamera& cam);
   void gather_tile(int tile, std::vector<TileGaussian<T>>& buf, const GaussianParams<T>& g) const;
   void run(const std::function<void(int)>& fn, int threads_hint = 0);
-  [[nodiscard]] int threads() const { return pool_ ? pool_->threads() : 1; }
+  [[nodiscard]] int threads() const { return pool_ ? pool_->size() : 1; }
 
   RasterSettings settings_;
-  WorkerPool* pool_;
+  rt::WorkerTeam* pool_;
   Projection<T> proj_;
   int tiles_x_ = 0, tiles_y_ = 0;
   std::vector<int> tile_offsets_;  ///< tiles + 1

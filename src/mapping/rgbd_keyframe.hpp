@@ -4,8 +4,9 @@
 // covariance is the sample covariance of the 3x3 grid of back-projected neighbours `stride`
 // pixels apart (an image-grid stand-in for the tracker's kNN covariances), skipping neighbours
 // across depth discontinuities.
+#include "core/types/image.hpp"
 #include "core/types/pinhole_camera.hpp"
-#include "io/image.hpp"
+#include "core/types/rgbd_view.hpp"
 #include "mapping/keyframe_gaussians.hpp"
 
 namespace vigs::mapping {
@@ -17,9 +18,14 @@ struct RgbdSampling {
   double max_relative_jump = 0.1;  ///< neighbours with |z - z0| > this * z0 are ignored
 };
 
-/// rgb: 3 channels, same size as depth (metres, 0 = invalid).
-KeyframeGaussians keyframe_from_rgbd(const PinholeCamera& cam, const io::ImageU8& rgb,
-                                     const io::ImageF32& depth_m, const Eigen::Isometry3d& T_w_c,
+/// One frame (core/types/rgbd_view.hpp); the frame's size, not the camera's, bounds the
+/// pixels visited.
+KeyframeGaussians keyframe_from_rgbd(const PinholeCamera& cam, const RgbdView& frame,
+                                     const Eigen::Isometry3d& T_w_c, const RgbdSampling& s = {});
+/// Owned images: rgb 3 channels, same size as depth (metres, 0 = invalid); throws
+/// std::invalid_argument otherwise.
+KeyframeGaussians keyframe_from_rgbd(const PinholeCamera& cam, const ImageU8& rgb,
+                                     const ImageF32& depth_m, const Eigen::Isometry3d& T_w_c,
                                      const RgbdSampling& s = {});
 
 }  // namespace vigs::mapping

@@ -26,14 +26,14 @@ std::vector<double> ssim_window_1d(SsimWindow w) {
 }
 
 template <class T>
-Ssim<T>::Ssim(SsimOptions options, WorkerPool* pool) : opt_(options), pool_(pool) {
+Ssim<T>::Ssim(SsimOptions options, rt::WorkerTeam* pool) : opt_(options), pool_(pool) {
   const auto w = ssim_window_1d(options.window);
   win_.assign(w.begin(), w.end());
 }
 
 template <class T>
 void Ssim<T>::for_rows(int rows, const std::function<void(int, int, int)>& fn) {
-  const int nt = pool_ ? pool_->threads() : 1;
+  const int nt = pool_ ? pool_->size() : 1;
   auto body = [&](int t) { fn(t, rows * t / nt, rows * (t + 1) / nt); };
   if (pool_) {
     pool_->run(body);
@@ -67,7 +67,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
     for (std::size_t i = 0; i < np * static_cast<std::size_t>(channels); ++i) grad_x[i] = 0;
   if (n_valid == 0) return T(1);
   const T inv_n = T(1) / (T(n_valid) * T(channels));
-  const int nt = pool_ ? pool_->threads() : 1;
+  const int nt = pool_ ? pool_->size() : 1;
   tmp_.resize(5 * nh);
   maps_.resize(5 * nv);
   if (grad_x) g_.resize(3 * nv);

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mapping/worker_pool.hpp"
+#include "rt/worker_team.hpp"
 
 namespace vigs::mapping {
 
@@ -33,7 +33,7 @@ template <class T>
 class Ssim {
  public:
   /// `pool` (may be null) splits rows across threads; it must outlive this object.
-  explicit Ssim(SsimOptions options = {}, WorkerPool* pool = nullptr);
+  explicit Ssim(SsimOptions options = {}, rt::WorkerTeam* pool = nullptr);
 
   /// Returns mean SSIM; when grad_x is not null it receives d(mean SSIM)/dx (w*h*channels).
   T evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask, T* grad_x);
@@ -42,7 +42,7 @@ class Ssim {
   void for_rows(int rows, const std::function<void(int, int, int)>& fn);
 
   SsimOptions opt_;
-  WorkerPool* pool_;
+  rt::WorkerTeam* pool_;
   std::vector<T> win_;
   std::vector<T> tmp_, maps_, g_, rows_;
   std::vector<double> partial_;

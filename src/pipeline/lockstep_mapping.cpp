@@ -17,21 +17,24 @@ config::MappingSettings with_iterations(config::MappingSettings s, int iteration
 LockstepMapper::LockstepMapper(const config::MappingSettings& s, const PinholeCamera& camera,
                                int iterations_per_frame)
     : camera_(camera),
-      pool_(s.threads),
+      pool_(s.threads, rt::ThreadSpec{.name = "mapper_w1"}),
       ring_(8),
       // max_pending 4: a replay adds at most one keyframe per tick, so nothing is skipped.
       mapper_(std::make_unique<mapping::Mapper>(with_iterations(s, iterations_per_frame), ring_,
                                                 &pool_)) {}
 
-void LockstepMapper::add_keyframe(const tracking::Keyframe& kf, const io::ImageU8& rgb,
-                                  const io::ImageF32& depth_m) {
+void LockstepMapper::add_keyframe(const tracking::Keyframe& kf, const RgbdView& frame) {
+  ImageU8 rgb;
+  ImageF32 depth_m;
+  copy_rgb8(frame, rgb);
+  copy_depth_m(frame, depth_m);
   auto m = std::make_unique<mapping::MapperKeyframe>();
   m->id = next_id_++;
   m->gaussians = mapping::to_keyframe_gaussians(kf);
   m->camera = mapping::RenderCamera::from(camera_, kf.T_w_c);
   m->rgb.resize(rgb.data.size());
   for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;
-  m->depth_m = depth_m.data;
+  m->depth_m = std::move(depth_m.data);
   // The ring holds 8 and every step() drains it, so this fails only if step() is not called;
   // the keyframe is then dropped and counted, like any keyframe beyond a queue bound.
   if (!ring_.try_push(std::move(m))) ++dropped_keyframes_;

@@ -10,9 +10,9 @@
 
 #include "core/config/mapping_settings.hpp"
 #include "core/types/pinhole_camera.hpp"
-#include "io/image.hpp"
+#include "core/types/rgbd_view.hpp"
 #include "mapping/mapper.hpp"
-#include "mapping/worker_pool.hpp"
+#include "rt/worker_team.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
 namespace vigs::pipeline {
@@ -23,9 +23,9 @@ class LockstepMapper {
   LockstepMapper(const config::MappingSettings& s, const PinholeCamera& camera,
                  int iterations_per_frame);
 
-  /// Hands a keyframe to the mapper (allocates: copies points and images).
-  void add_keyframe(const tracking::Keyframe& kf, const io::ImageU8& rgb,
-                    const io::ImageF32& depth_m);
+  /// Hands a keyframe to the mapper with `frame` as its training view (allocates: copies
+  /// points and images; depth without a measurement becomes 0).
+  void add_keyframe(const tracking::Keyframe& kf, const RgbdView& frame);
   /// One mapper tick: ingest, then iterations_per_frame iterations (none before a keyframe).
   void step() { mapper_->tick(); }
 
@@ -35,7 +35,7 @@ class LockstepMapper {
 
  private:
   PinholeCamera camera_;
-  mapping::WorkerPool pool_;
+  rt::WorkerTeam pool_;
   mapping::KeyframeRing ring_;
   std::unique_ptr<mapping::Mapper> mapper_;
   std::uint64_t next_id_ = 0;

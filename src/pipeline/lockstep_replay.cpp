@@ -85,10 +85,9 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   std::optional<Odometry> odometry;
   std::optional<LockstepMapper> mapper;
   ImuFeeder feeder(motion.imu);
-  io::ImageF32 blank_depth;
   std::int64_t last_t_ns = 0;
   const auto on_recorded = [&](const eval::RecordedFrame& rec) {
-    const std::int64_t t_ns = std::llround(rec.t_s * 1e9);
+    const std::int64_t t_ns = rec.view.t_ns;
     if (!odometry) {
       OdometryOptions opt;
       opt.guess = options.guess;
@@ -103,7 +102,6 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
         mapper.emplace(cfg.mapping, rec.camera, options.map_iterations_per_frame);
       result.camera = rec.camera;
       result.guess = odometry->guess_mode();
-      blank_depth = io::ImageF32(rec.camera.width_px, rec.camera.height_px, 1);
       result.frames.reserve(options.max_frames > 0 ? static_cast<std::size_t>(options.max_frames)
                                                    : 1024);
     } else {
@@ -121,15 +119,14 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     }
     last_t_ns = t_ns;
     feeder.feed_until(t_ns, *odometry);
-    const bool has_depth = !rec.depth_m.empty();
-    if (!has_depth) ++result.frames_without_depth;
+    // A frame without depth is tracked with no measurement anywhere (and so is lost).
+    if (!rec.view.has_depth()) ++result.frames_without_depth;
     const auto t_track = std::chrono::steady_clock::now();
-    const io::ImageF32& depth_m = has_depth ? rec.depth_m : blank_depth;
-    const TrackedFrame f = odometry->track(t_ns, depth_m, rec.rgb);
+    const TrackedFrame f = odometry->track(rec.view);
     result.track_s += seconds_since(t_track);
     if (mapper) {
       const auto t_map = std::chrono::steady_clock::now();
-      if (f.keyframe) mapper->add_keyframe(odometry->tracker().last_keyframe(), rec.rgb, depth_m);
+      if (f.keyframe) mapper->add_keyframe(odometry->tracker().last_keyframe(), rec.view);
       mapper->step();
       result.map_s += seconds_since(t_map);
     }

@@ -34,8 +34,8 @@ Odometry::Odometry(const config::RobotConfig& cfg, const PinholeCamera& camera,
       tracker_(camera, tracker_setting(cfg, options),
                options.initial_T_w_c.value_or(geometry::Pose::Identity())) {}
 
-TrackedFrame Odometry::track(std::int64_t t_ns, const io::ImageF32& depth_m,
-                             const io::ImageU8& rgb) {
+TrackedFrame Odometry::track(const RgbdView& frame) {
+  const std::int64_t t_ns = frame.t_ns;
   const bool imu_mode = mode_ == tracking::InitialGuessMode::imu;
   const bool first = counters_.frames == 0;
   std::optional<geometry::Pose> T_w_c_imu;
@@ -48,8 +48,7 @@ TrackedFrame Odometry::track(std::int64_t t_ns, const io::ImageF32& depth_m,
     }
   }
   // The first frame starts at initial_T_w_c (the tracker was built with it).
-  const tracking::TrackingOutput out =
-      tracker_.track(t_ns, depth_m, rgb, T_w_c_imu ? &*T_w_c_imu : nullptr);
+  const tracking::TrackingOutput out = tracker_.track(frame, T_w_c_imu ? &*T_w_c_imu : nullptr);
 
   TrackedFrame f;
   f.t_ns = t_ns;

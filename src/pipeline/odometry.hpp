@@ -24,8 +24,8 @@
 #include "core/config/robot_config.hpp"
 #include "core/types/imu_sample.hpp"
 #include "core/types/pinhole_camera.hpp"
+#include "core/types/rgbd_view.hpp"
 #include "inertial/inertial_frontend.hpp"
-#include "io/image.hpp"
 #include "tracking/tracker.hpp"
 
 namespace vigs::pipeline {
@@ -80,8 +80,8 @@ class Odometry {
     return mode_ != tracking::InitialGuessMode::imu || inertial_.add_sample(sample);
   }
 
-  /// Tracks the frame at t_ns. Feed every IMU sample with t <= t_ns first.
-  TrackedFrame track(std::int64_t t_ns, const io::ImageF32& depth_m, const io::ImageU8& rgb);
+  /// Tracks the frame at frame.t_ns. Feed every IMU sample with t <= frame.t_ns first.
+  TrackedFrame track(const RgbdView& frame);
 
   [[nodiscard]] tracking::InitialGuessMode guess_mode() const { return mode_; }
   [[nodiscard]] const OdometryCounters& counters() const { return counters_; }

@@ -59,8 +59,8 @@ int clamped_k(const CovarianceSetting& setting) {
 
 }  // namespace
 
-void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, ForkJoin& team,
-                          GaussianCloud& cloud) {
+void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting,
+                          rt::WorkerTeam& team, GaussianCloud& cloud) {
   const std::size_t n = cloud.points_m.size();
   cloud.cov_raw_m2.resize(n);
   cloud.cov_m2.resize(n);
@@ -69,7 +69,7 @@ void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, 
     std::uint32_t idx[KdTree::kMaxK];
     float d2[KdTree::kMaxK];
     const std::vector<std::uint32_t>& order = tree.leaf_order();
-    ForkJoin::for_each_interleaved(n, t, team.size(), 256, [&](std::size_t o) {
+    rt::WorkerTeam::for_each_interleaved(n, t, team.size(), 256, [&](std::size_t o) {
       const std::uint32_t i = order[o];
       const int found = tree.knn(cloud.points_m[i], k, idx, d2);
       covariance_from_neighbours(setting, i, idx, found, cloud);
@@ -78,8 +78,8 @@ void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, 
 }
 
 void estimate_covariances(const PixelGrid& grid, const OrganizedKnn& knn,
-                          const CovarianceSetting& setting, ForkJoin& team, GaussianCloud& cloud,
-                          std::vector<std::vector<std::uint32_t>>& pending) {
+                          const CovarianceSetting& setting, rt::WorkerTeam& team,
+                          GaussianCloud& cloud, std::vector<std::vector<std::uint32_t>>& pending) {
   const std::size_t n = cloud.points_m.size();
   cloud.cov_raw_m2.resize(n);
   cloud.cov_m2.resize(n);
@@ -91,7 +91,7 @@ void estimate_covariances(const PixelGrid& grid, const OrganizedKnn& knn,
     std::vector<std::uint32_t>& left = pending[static_cast<std::size_t>(t)];
     left.clear();
     // Points are in raster order, so consecutive queries share their image neighbourhoods.
-    ForkJoin::for_each_interleaved(n, t, team.size(), 256, [&](std::size_t o) {
+    rt::WorkerTeam::for_each_interleaved(n, t, team.size(), 256, [&](std::size_t o) {
       const auto i = static_cast<std::uint32_t>(o);
       const int found = knn.knn(grid, cloud.points_m, i, k, idx, d2);
       if (found < 0) {

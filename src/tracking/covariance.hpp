@@ -22,7 +22,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "tracking/fork_join.hpp"
+#include "rt/worker_team.hpp"
 #include "tracking/gaussian_cloud.hpp"
 #include "tracking/kdtree.hpp"
 #include "tracking/organized_knn.hpp"
@@ -51,17 +51,17 @@ Eigen::Matrix3f regularize_covariance(const Eigen::Matrix3f& raw_m2,
                                       const CovarianceSetting& setting);
 
 /// Fills cloud.cov_raw_m2 and cloud.cov_m2 for every point; `tree` must index
-/// cloud.points_m. Points go to the team in fixed blocks (ForkJoin::for_each_interleaved).
-void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting, ForkJoin& team,
-                          GaussianCloud& cloud);
+/// cloud.points_m. Points go to the team in fixed blocks (rt::WorkerTeam::for_each_interleaved).
+void estimate_covariances(const KdTree& tree, const CovarianceSetting& setting,
+                          rt::WorkerTeam& team, GaussianCloud& cloud);
 
 /// The same for an organised cloud (`grid` describes it), neighbours from `knn` through the
 /// image. Points the image search cannot certify are not filled: team member t appends them to
 /// pending[t] (cleared first; one vector per member, reserved by the caller to stay
 /// allocation-free) for estimate_covariances_of().
 void estimate_covariances(const PixelGrid& grid, const OrganizedKnn& knn,
-                          const CovarianceSetting& setting, ForkJoin& team, GaussianCloud& cloud,
-                          std::vector<std::vector<std::uint32_t>>& pending);
+                          const CovarianceSetting& setting, rt::WorkerTeam& team,
+                          GaussianCloud& cloud, std::vector<std::vector<std::uint32_t>>& pending);
 
 /// Covariances of the listed points only (cov vectors already sized), neighbours from `tree`.
 void estimate_covariances_of(const KdTree& tree, const CovarianceSetting& setting,

@@ -9,31 +9,26 @@ namespace vigs::tracking {
 
 namespace {
 
-void check_sizes(int width, int height, const io::ImageU8& rgb, const PinholeCamera& camera) {
-  if (width <= 0 || height <= 0) {
+void check_sizes(const RgbdView& frame, const PinholeCamera& camera) {
+  if (frame.width_px <= 0 || frame.height_px <= 0) {
     throw std::invalid_argument("depth image is empty");
   }
-  if (camera.width_px != 0 && (camera.width_px != width || camera.height_px != height)) {
-    throw std::invalid_argument("depth image is " + std::to_string(width) + "x" +
-                                std::to_string(height) + " but the camera is " +
+  if (camera.width_px != 0 &&
+      (camera.width_px != frame.width_px || camera.height_px != frame.height_px)) {
+    throw std::invalid_argument("depth image is " + std::to_string(frame.width_px) + "x" +
+                                std::to_string(frame.height_px) + " but the camera is " +
                                 std::to_string(camera.width_px) + "x" +
                                 std::to_string(camera.height_px));
-  }
-  if (!rgb.empty() && (rgb.width != width || rgb.height != height || rgb.channels != 3)) {
-    throw std::invalid_argument("colour image is " + std::to_string(rgb.width) + "x" +
-                                std::to_string(rgb.height) + "x" + std::to_string(rgb.channels) +
-                                " but depth is " + std::to_string(width) + "x" +
-                                std::to_string(height) + " (3 channels expected)");
   }
 }
 
 }  // namespace
 
 template <class DepthAt>
-DepthToPointsStats DepthToPoints::convert_impl(int width, int height, DepthAt depth_at,
-                                               const io::ImageU8& rgb, GaussianCloud& out,
-                                               PixelGrid* grid) {
-  check_sizes(width, height, rgb, camera_);
+DepthToPointsStats DepthToPoints::convert_impl(const RgbdView& frame, DepthAt depth_at,
+                                               GaussianCloud& out, PixelGrid* grid) {
+  check_sizes(frame, camera_);
+  const int width = frame.width_px, height = frame.height_px;
   out.clear();
   const int stride = std::max(1, setting_.pixel_stride);
   out.points_m.reserve(static_cast<std::size_t>((width + stride - 1) / stride) *
@@ -76,12 +71,7 @@ DepthToPointsStats DepthToPoints::convert_impl(int width, int height, DepthAt de
         grid->point_at[cell] = static_cast<std::int32_t>(out.points_m.size() - 1);
         grid->cell_of.push_back(static_cast<std::uint32_t>(cell));
       }
-      if (rgb.empty()) {
-        out.colors_rgb.push_back({0, 0, 0});
-      } else {
-        const std::size_t i = rgb.index(u, v);
-        out.colors_rgb.push_back({rgb.data[i], rgb.data[i + 1], rgb.data[i + 2]});
-      }
+      out.colors_rgb.push_back(frame.rgb_at(u, v));
     }
   }
   if (setting_.voxel_size_m > 0.0) {
@@ -94,28 +84,10 @@ DepthToPointsStats DepthToPoints::convert_impl(int width, int height, DepthAt de
   return stats;
 }
 
-DepthToPointsStats DepthToPoints::convert(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                                          GaussianCloud& out, PixelGrid* grid) {
-  if (depth_m.channels != 1) {
-    throw std::invalid_argument("depth image must have 1 channel, has " +
-                                std::to_string(depth_m.channels));
-  }
-  return convert_impl(
-      depth_m.width, depth_m.height,
-      [&depth_m](int u, int v) { return static_cast<double>(depth_m.at(u, v)); }, rgb, out, grid);
-}
-
-DepthToPointsStats DepthToPoints::convert(const io::ImageU16& depth_raw, double depth_scale_m,
-                                          const io::ImageU8& rgb, GaussianCloud& out,
+DepthToPointsStats DepthToPoints::convert(const RgbdView& frame, GaussianCloud& out,
                                           PixelGrid* grid) {
-  if (depth_raw.channels != 1) {
-    throw std::invalid_argument("depth image must have 1 channel, has " +
-                                std::to_string(depth_raw.channels));
-  }
-  return convert_impl(
-      depth_raw.width, depth_raw.height,
-      [&depth_raw, depth_scale_m](int u, int v) { return depth_raw.at(u, v) * depth_scale_m; }, rgb,
-      out, grid);
+  return frame.with_depth_m(
+      [&](auto depth_at) { return convert_impl(frame, depth_at, out, grid); });
 }
 
 // Sort (voxel key, index) pairs and average each run: deterministic, no hash map, and the

@@ -3,11 +3,13 @@
 // truncation, pixel-stride sampling and optional voxel-grid averaging. Invalid depth
 // (NaN, zero, negative) and out-of-range depth are skipped and counted.
 #include <cstdint>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
+#include "core/types/image.hpp"
 #include "core/types/pinhole_camera.hpp"
-#include "io/image.hpp"
+#include "core/types/rgbd_view.hpp"
 #include "tracking/gaussian_cloud.hpp"
 #include "tracking/pixel_grid.hpp"
 
@@ -34,23 +36,33 @@ class DepthToPoints {
   DepthToPoints(const PinholeCamera& camera, const Setting& setting)
       : camera_(camera), setting_(setting) {}
 
-  /// Depth in metres (e.g. io::read_depth_m). `rgb` is empty or a 3-channel image of the same
-  /// size; without it colours are 0. Output: points_m and colors_rgb of `out` (covariances are
-  /// cleared). With `grid`, also where each point came from (cleared when the voxel grid
-  /// resamples the cloud). Throws std::invalid_argument on mismatched image sizes.
-  DepthToPointsStats convert(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                             GaussianCloud& out, PixelGrid* grid = nullptr);
-  /// Raw 16-bit depth times `depth_scale_m` (0.001 for millimetres).
-  DepthToPointsStats convert(const io::ImageU16& depth_raw, double depth_scale_m,
-                             const io::ImageU8& rgb, GaussianCloud& out, PixelGrid* grid = nullptr);
+  /// One frame's depth (metres, or raw units times the view's scale) and colour (black when
+  /// the view has none). Output: points_m and colors_rgb of `out` (covariances are cleared).
+  /// With `grid`, also where each point came from (cleared when the voxel grid resamples the
+  /// cloud). Throws std::invalid_argument when the frame is empty or differs from the camera's
+  /// size.
+  DepthToPointsStats convert(const RgbdView& frame, GaussianCloud& out, PixelGrid* grid = nullptr);
+  /// Owned images (tools, tests): depth in metres (e.g. io::read_depth_m); `rgb` empty or of
+  /// the same size (3 channels, or 1 read as grey).
+  DepthToPointsStats convert(const ImageF32& depth_m, const ImageU8& rgb, GaussianCloud& out,
+                             PixelGrid* grid = nullptr) {
+    if (depth_m.empty()) throw std::invalid_argument("depth image is empty");
+    return convert(rgbd_view(0, depth_m, rgb), out, grid);
+  }
+  /// Raw 16-bit depth times `depth_scale_m` (0.001 for millimetres), in single precision.
+  DepthToPointsStats convert(const ImageU16& depth_raw, double depth_scale_m, const ImageU8& rgb,
+                             GaussianCloud& out, PixelGrid* grid = nullptr) {
+    if (depth_raw.empty()) throw std::invalid_argument("depth image is empty");
+    return convert(rgbd_view(0, depth_raw, static_cast<float>(depth_scale_m), rgb), out, grid);
+  }
 
   [[nodiscard]] const Setting& setting() const { return setting_; }
   [[nodiscard]] const PinholeCamera& camera() const { return camera_; }
 
  private:
   template <class DepthAt>
-  DepthToPointsStats convert_impl(int width, int height, DepthAt depth_at, const io::ImageU8& rgb,
-                                  GaussianCloud& out, PixelGrid* grid);
+  DepthToPointsStats convert_impl(const RgbdView& frame, DepthAt depth_at, GaussianCloud& out,
+                                  PixelGrid* grid);
   void voxel_average(GaussianCloud& out);
 
   PinholeCamera camera_;

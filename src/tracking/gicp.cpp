@@ -20,10 +20,13 @@ std::string_view to_string(GicpVerdict verdict) {
 
 Gicp::Gicp() : Gicp(Setting{}) {}
 
-Gicp::Gicp(const Setting& setting)
-    : setting_(setting),
-      team_(setting.num_threads),
-      partials_(static_cast<std::size_t>(team_.size())) {}
+Gicp::Gicp(const Setting& setting, rt::WorkerTeam* team) : setting_(setting), team_(team) {
+  if (team_ == nullptr) {
+    own_team_.emplace(setting.num_threads, rt::ThreadSpec{.name = "tracker_w1"});
+    team_ = &*own_team_;
+  }
+  partials_.resize(static_cast<std::size_t>(team_->size()));
+}
 
 template GicpResult Gicp::align<CloudTarget>(const CloudTarget&, const GaussianCloud&,
                                              const geometry::Pose&);

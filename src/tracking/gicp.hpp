@@ -12,11 +12,12 @@
 // 256 (round robin), each thread sums its blocks in order, and the per-thread partial H, b
 // are summed in thread order, so the result is bit-identical run to run for the same
 // num_threads.
+#include <optional>
 #include <string_view>
 #include <vector>
 
 #include "core/geometry/se3.hpp"
-#include "tracking/fork_join.hpp"
+#include "rt/worker_team.hpp"
 #include "tracking/gaussian_cloud.hpp"
 #include "tracking/gicp_factor.hpp"
 #include "tracking/kdtree.hpp"
@@ -71,7 +72,10 @@ class Gicp {
   };
 
   Gicp();
-  explicit Gicp(const Setting& setting);
+  /// `team`: the worker team to run on (the Tracker shares its own; it must outlive this Gicp
+  /// and have setting.num_threads members). Null: the Gicp owns a team of setting.num_threads
+  /// normal-priority workers named `tracker_w<m>`.
+  explicit Gicp(const Setting& setting, rt::WorkerTeam* team = nullptr);
 
   /// Target: anything with nearest(q, max_sq_dist, index, sq_dist), point(i) and cov(i)
   /// (CloudTarget below, LocalMap). Source covariances are source.cov_m2.
@@ -103,7 +107,8 @@ class Gicp {
                           const geometry::Pose& T_t_s);
 
   Setting setting_;
-  ForkJoin team_;
+  std::optional<rt::WorkerTeam> own_team_;
+  rt::WorkerTeam* team_;
   std::vector<Partial> partials_;
   /// Per source point, its target match at the previous linearisation of this align() call
   /// (KdTree::kNoHint when none): seeds the next nearest-neighbour search of targets that

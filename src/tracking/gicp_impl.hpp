@@ -21,14 +21,14 @@ Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& s
   const float overlap_sq =
       static_cast<float>(setting_.overlap_distance_m * setting_.overlap_distance_m);
   const std::size_t n = source.size();
-  team_.run([&](int th) {
+  team_->run([&](int th) {
     Partial& part = partials_[static_cast<std::size_t>(th)];
     part.system = GicpSystem{};
     part.sum_sq_range = 0.0;
     part.sum_y.setZero();
     part.inliers = 0;
     part.overlapping = 0;
-    ForkJoin::for_each_interleaved(n, th, team_.size(), kBlock, [&](std::size_t i) {
+    rt::WorkerTeam::for_each_interleaved(n, th, team_->size(), kBlock, [&](std::size_t i) {
       const Eigen::Vector3d y = R * source.points_m[i].cast<double>() + t;
       std::uint32_t j = 0;
       float d2 = 0.0f;

@@ -32,7 +32,7 @@ struct NearestResult {
 
 }  // namespace
 
-void KdTree::build(const std::vector<Eigen::Vector3f>& points, ForkJoin* team) {
+void KdTree::build(const std::vector<Eigen::Vector3f>& points, rt::WorkerTeam* team) {
   const auto n = static_cast<std::uint32_t>(points.size());
   build_.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) {

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "tracking/fork_join.hpp"
+#include "rt/worker_team.hpp"
 
 namespace vigs::tracking {
 
@@ -28,7 +28,7 @@ class KdTree {
   /// Indexes a copy of `points` (finite; the caller may change them afterwards). With a
   /// team of 2+ threads the two halves below the root are built in parallel; the tree is
   /// the same either way.
-  void build(const std::vector<Eigen::Vector3f>& points, ForkJoin* team = nullptr);
+  void build(const std::vector<Eigen::Vector3f>& points, rt::WorkerTeam* team = nullptr);
 
   /// The k (<= kMaxK) nearest points to q, nearest first: original indices and squared
   /// distances (m^2). Returns how many were found (< k only when the tree is smaller). Ties

@@ -3,21 +3,20 @@
 namespace vigs::tracking {
 
 FramePreprocessor::FramePreprocessor(const PinholeCamera& camera, const Setting& setting,
-                                     ForkJoin& team)
+                                     rt::WorkerTeam& team)
     : depth_(camera, setting.depth), setting_(setting), team_(&team), fallback_tree_(setting.tree) {
   pending_.resize(static_cast<std::size_t>(team.size()));
 }
 
-DepthToPointsStats FramePreprocessor::process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                                              GaussianCloud& out) {
-  const DepthToPointsStats stats = depth_.convert(depth_m, rgb, out, &grid_);
+DepthToPointsStats FramePreprocessor::process(const RgbdView& frame, GaussianCloud& out) {
+  const DepthToPointsStats stats = depth_.convert(frame, out, &grid_);
   covariances(out, nullptr);
   return stats;
 }
 
-DepthToPointsStats FramePreprocessor::process(const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                                              GaussianCloud& out, KdTree& tree, PixelGrid* grid) {
-  const DepthToPointsStats stats = depth_.convert(depth_m, rgb, out, &grid_);
+DepthToPointsStats FramePreprocessor::process(const RgbdView& frame, GaussianCloud& out,
+                                              KdTree& tree, PixelGrid* grid) {
+  const DepthToPointsStats stats = depth_.convert(frame, out, &grid_);
   tree.build(out.points_m, team_);
   covariances(out, &tree);
   if (grid != nullptr) {

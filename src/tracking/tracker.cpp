@@ -20,9 +20,9 @@ std::string_view to_string(TrackingStatus status) {
 
 Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geometry::Pose& T_w_c0)
     : setting_(setting),
-      team_(setting.preprocess_threads),
+      team_(setting.preprocess_threads, setting.worker),
       pre_(camera, setting.preprocess, team_),
-      gicp_(setting.gicp),
+      gicp_(setting.gicp, setting.gicp.num_threads == team_.size() ? &team_ : nullptr),
       map_(setting.local_map),
       policy_{setting.keyframe},
       T_w_c0_(T_w_c0) {}
@@ -54,11 +54,11 @@ void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
   keyframe_.cloud_c.colors_rgb = cloud_.colors_rgb;
 }
 
-TrackingOutput Tracker::track(std::int64_t t_ns, const io::ImageF32& depth_m,
-                              const io::ImageU8& rgb, const geometry::Pose* T_w_c_imu) {
+TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c_imu) {
+  const std::int64_t t_ns = frame.t_ns;
   TrackingOutput out;
   out.t_ns = t_ns;
-  out.points = pre_.process(depth_m, rgb, cloud_);
+  out.points = pre_.process(frame, cloud_);
   if (frames_ == 0) {
     out.T_w_c = out.T_w_c_guess = T_w_c_imu != nullptr ? *T_w_c_imu : T_w_c0_;
     out.status = TrackingStatus::initialized;

@@ -9,6 +9,7 @@
 // InitialGuessMode::imu the IMU-propagated pose — flagged `pose_from_gicp = false`, and it
 // does not become a keyframe.
 #include <cstdint>
+#include <stdexcept>
 #include <string_view>
 
 #include "tracking/gicp.hpp"
@@ -52,27 +53,39 @@ class Tracker {
     double max_correction_m = 0.5;
     double max_correction_rad = 30.0 * 3.14159265358979323846 / 180.0;
     int preprocess_threads = 2;
+    /// Member 1 of the tracker's worker team (more members: rt::worker_spec). Normal priority
+    /// by default; the live pipeline passes the thread table's `tracker_w1` as rt: allows.
+    rt::ThreadSpec worker{.name = "tracker_w1"};
   };
 
   Tracker(const PinholeCamera& camera, const Setting& setting,
           const geometry::Pose& T_w_c0 = geometry::Pose::Identity());
 
-  /// Tracks one frame. `T_w_c_imu` is the IMU-propagated pose for this frame (nullptr when
-  /// none); it is used in imu mode only. On the first frame it is the starting pose if given.
-  TrackingOutput track(std::int64_t t_ns, const io::ImageF32& depth_m, const io::ImageU8& rgb,
-                       const geometry::Pose* T_w_c_imu = nullptr);
+  /// Tracks one frame; its stamp is frame.t_ns. `T_w_c_imu` is the IMU-propagated pose for
+  /// this frame (nullptr when none); it is used in imu mode only. On the first frame it is the
+  /// starting pose if given.
+  TrackingOutput track(const RgbdView& frame, const geometry::Pose* T_w_c_imu = nullptr);
+  /// Owned images (tools, tests): depth in metres, `rgb` empty or of the same size.
+  TrackingOutput track(std::int64_t t_ns, const ImageF32& depth_m, const ImageU8& rgb,
+                       const geometry::Pose* T_w_c_imu = nullptr) {
+    if (depth_m.empty()) throw std::invalid_argument("depth image is empty");
+    return track(rgbd_view(t_ns, depth_m, rgb), T_w_c_imu);
+  }
 
   /// The most recent keyframe (camera-frame Gaussians and T_w_c), for the mapper.
   [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }
   [[nodiscard]] const LocalMap& local_map() const { return map_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
+  /// Preprocessing and GICP run on this one team (GICP shares it when gicp.num_threads equals
+  /// preprocess_threads, as settings_from_config makes them).
+  [[nodiscard]] const rt::WorkerTeam& team() const { return team_; }
 
  private:
   geometry::Pose guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu, bool& fell_back) const;
   void make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
 
   Setting setting_;
-  ForkJoin team_;
+  rt::WorkerTeam team_;
   FramePreprocessor pre_;
   Gicp gicp_;
   LocalMap map_;

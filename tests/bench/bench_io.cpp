@@ -1,5 +1,6 @@
 // Recording-layer benchmarks, each beside a baseline measured in the same run:
-//   CDR encoding of a 720x480 rgb8 Image vs memcpy of its pixels; MCAP writing of RGB-D + IMU
+//   CDR encoding of a 720x480 rgb8 Image vs memcpy of its pixels; CDR encode/decode of an Image
+//   and an Imu, the codecs' own archive vs Fast CDR's; MCAP writing of RGB-D + IMU
 //   frames (zstd level 1 and 3) vs write(2) of the same bytes; MCAP reading (zstd) with and
 //   without CRC checks vs read(2) of the uncompressed byte count.
 #include <benchmark/benchmark.h>
@@ -13,9 +14,11 @@
 
 #include "io/mcap/mcap_reader.hpp"
 #include "io/mcap/mcap_writer.hpp"
+#include "io/ros_msgs/fastcdr_archive.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
 #include "io/ros_msgs/typed_io.hpp"
+#include "io/ros_msgs/visit_fields.hpp"
 
 namespace {
 
@@ -78,6 +81,115 @@ void BM_CdrEncodeImage(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * img.data.size()));
 }
 BENCHMARK(BM_CdrEncodeImage);
+
+// Fast CDR (libfastcdr, the CDR library of Fast DDS) against the codecs' own CDR archive, same
+// field order (detail::Visit*): the comparison behind keeping the latter (BENCHMARKS.md).
+template <class Msg, class Visit>
+void fastcdr_encode(const Msg& m, Visit visit, std::vector<std::uint8_t>& out) {
+  ros_msgs::detail::SizeBound bound;
+  visit(bound, m);
+  out.clear();
+  out.resize(bound.bytes);
+  ros_msgs::detail::FastCdrEncoder ar(out);
+  visit(ar, m);
+  ar.finish();
+}
+
+ros_msgs::Imu make_imu() {
+  ros_msgs::Imu m;
+  m.header.frame_id = "imu";
+  m.header.stamp = {12, 345};
+  m.orientation = {0.1, 0.2, 0.3, 0.9};
+  m.angular_velocity = {0.01, -0.02, 0.03};
+  m.linear_acceleration = {0.1, 9.81, -0.2};
+  for (int i = 0; i < 9; ++i) m.orientation_covariance[i] = 1e-3 * i;
+  return m;
+}
+
+void BM_CdrEncodeImageFastCdr(benchmark::State& state) {
+  const ros_msgs::Image img = make_rgb(0);
+  std::vector<std::uint8_t> out;
+  for (auto _ : state) {
+    fastcdr_encode(img, ros_msgs::detail::VisitImage{}, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * img.data.size()));
+}
+BENCHMARK(BM_CdrEncodeImageFastCdr);
+
+void BM_CdrDecodeImage(benchmark::State& state) {
+  std::vector<std::uint8_t> bytes;
+  ros_msgs::encode(make_rgb(0), ros_msgs::Encoding::kCdr, bytes);
+  ros_msgs::Image m;
+  for (auto _ : state) {
+    ros_msgs::decode(bytes, ros_msgs::Encoding::kCdr, m);
+    benchmark::DoNotOptimize(m.data.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
+}
+BENCHMARK(BM_CdrDecodeImage);
+
+void BM_CdrDecodeImageFastCdr(benchmark::State& state) {
+  std::vector<std::uint8_t> bytes;
+  ros_msgs::encode(make_rgb(0), ros_msgs::Encoding::kCdr, bytes);
+  ros_msgs::Image m;
+  for (auto _ : state) {
+    ros_msgs::detail::FastCdrDecoder ar(bytes, "sensor_msgs/msg/Image");
+    ros_msgs::detail::VisitImage{}(ar, m);
+    ar.finish();
+    benchmark::DoNotOptimize(m.data.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
+}
+BENCHMARK(BM_CdrDecodeImageFastCdr);
+
+void BM_CdrEncodeImu(benchmark::State& state) {
+  const ros_msgs::Imu imu = make_imu();
+  std::vector<std::uint8_t> out;
+  for (auto _ : state) {
+    ros_msgs::encode(imu, ros_msgs::Encoding::kCdr, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(BM_CdrEncodeImu);
+
+void BM_CdrEncodeImuFastCdr(benchmark::State& state) {
+  const ros_msgs::Imu imu = make_imu();
+  std::vector<std::uint8_t> out;
+  for (auto _ : state) {
+    fastcdr_encode(imu, ros_msgs::detail::VisitImu{}, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(BM_CdrEncodeImuFastCdr);
+
+void BM_CdrDecodeImu(benchmark::State& state) {
+  std::vector<std::uint8_t> bytes;
+  ros_msgs::encode(make_imu(), ros_msgs::Encoding::kCdr, bytes);
+  ros_msgs::Imu m;
+  for (auto _ : state) {
+    ros_msgs::decode(bytes, ros_msgs::Encoding::kCdr, m);
+    benchmark::DoNotOptimize(&m);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(BM_CdrDecodeImu);
+
+void BM_CdrDecodeImuFastCdr(benchmark::State& state) {
+  std::vector<std::uint8_t> bytes;
+  ros_msgs::encode(make_imu(), ros_msgs::Encoding::kCdr, bytes);
+  ros_msgs::Imu m;
+  for (auto _ : state) {
+    ros_msgs::detail::FastCdrDecoder ar(bytes, "sensor_msgs/msg/Imu");
+    ros_msgs::detail::VisitImu{}(ar, m);
+    ar.finish();
+    benchmark::DoNotOptimize(&m);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(BM_CdrDecodeImuFastCdr);
 
 void BM_MemcpyImageBaseline(benchmark::State& state) {
   const ros_msgs::Image img = make_rgb(0);

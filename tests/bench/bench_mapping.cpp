@@ -53,8 +53,8 @@ struct Config {
   bool reference;  // single thread, scalar kernel
 };
 
-std::unique_ptr<mapping::WorkerPool> make_pool(bool reference) {
-  return reference ? nullptr : std::make_unique<mapping::WorkerPool>(2);
+std::unique_ptr<vigs::rt::WorkerTeam> make_pool(bool reference) {
+  return reference ? nullptr : std::make_unique<vigs::rt::WorkerTeam>(2);
 }
 
 mapping::RasterSettings raster_settings(bool reference) {

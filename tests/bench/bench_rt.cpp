@@ -4,6 +4,15 @@
 //                                  as fast as it can; items_per_second.
 //  BM_RoundTrip<Ring|MutexQueue>   ping-pong over two queues (CPU 0 <-> CPU 1); the time per
 //                                  iteration is one round trip.
+//  BM_TeamRun<Team>/items/gap_us  one 2-member parallel region per iteration: each member sums
+//                                  its half of `items` floats (0 = an empty job: the hand-off
+//                                  alone), with `gap_us` of caller-only work before each region
+//                                  (0: back to back like GICP's iterations; 200: the workers have
+//                                  gone to sleep). Team = rt::WorkerTeam with its real-time spin
+//                                  (20 us, then futex), WorkerTeamNoSpin (futex only), and the two
+//                                  teams it replaced (tests/bench/legacy_teams.hpp): ForkJoin
+//                                  (atomic wait/notify) and WorkerPool (mutex + condition
+//                                  variables).
 // Baseline: std::deque under a std::mutex, bounded to the same capacity, polled in a spin loop
 // (no condition variable), so both sides do the same work apart from the synchronisation.
 // Target (BENCHMARKS.md): ring throughput >= 5x the mutex queue's.
@@ -18,12 +27,15 @@
 #include <deque>
 #include <mutex>
 #include <thread>
+#include <vector>
 
+#include "legacy_teams.hpp"
 #include "rt/clock.hpp"
 #include "rt/latency_histogram.hpp"
 #include "rt/overwrite_ring.hpp"
 #include "rt/spsc_ring.hpp"
 #include "rt/thread_table.hpp"
+#include "rt/worker_team.hpp"
 
 namespace {
 
@@ -186,6 +198,72 @@ void BM_OverwriteRingPushPop(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_OverwriteRingPushPop);
+
+struct WorkerTeamSpin {
+  vigs::rt::WorkerTeam team{2, vigs::rt::ThreadSpec{.name = "bench_w1"},
+                            vigs::rt::WorkerTeam::kRealtimeSpinNs};
+  template <class F>
+  void run(F&& f) {
+    team.run(f);
+  }
+};
+struct WorkerTeamNoSpin {
+  vigs::rt::WorkerTeam team{2, vigs::rt::ThreadSpec{.name = "bench_w1"}, 0};
+  template <class F>
+  void run(F&& f) {
+    team.run(f);
+  }
+};
+struct ForkJoin {
+  vigs::bench_legacy::ForkJoin team{2};
+  template <class F>
+  void run(F&& f) {
+    team.run(f);
+  }
+};
+struct WorkerPool {
+  vigs::bench_legacy::WorkerPool team{2};
+  template <class F>
+  void run(F&& f) {
+    team.run(f);  // converts to std::function, as mapping's callers did
+  }
+};
+
+template <class Team>
+void BM_TeamRun(benchmark::State& state) {
+  const auto items = static_cast<std::size_t>(state.range(0));
+  const std::int64_t gap_ns = state.range(1) * 1000;
+  std::vector<float> data(items, 1.0f);
+  double partial[2 * 8] = {};
+  Team team;
+  for (auto _ : state) {
+    if (gap_ns > 0) {
+      const std::int64_t until = vigs::rt::monotonic_ns() + gap_ns;
+      while (vigs::rt::monotonic_ns() < until) {
+      }
+    }
+    team.run([&](int m) {
+      std::size_t b = 0, e = 0;
+      vigs::rt::WorkerTeam::chunk(items, m, 2, b, e);
+      double s = 0;
+      for (std::size_t i = b; i < e; ++i) s += data[i];
+      partial[m * 8] = s;
+    });
+    benchmark::DoNotOptimize(partial[0] + partial[8]);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+#define VIGS_TEAM_BENCH(T)          \
+  BENCHMARK_TEMPLATE(BM_TeamRun, T) \
+      ->Args({0, 0})                \
+      ->Args({20000, 0})            \
+      ->Args({20000, 200})          \
+      ->UseRealTime()
+VIGS_TEAM_BENCH(WorkerTeamSpin);
+VIGS_TEAM_BENCH(WorkerTeamNoSpin);
+VIGS_TEAM_BENCH(ForkJoin);
+VIGS_TEAM_BENCH(WorkerPool);
 
 }  // namespace
 

@@ -30,8 +30,8 @@ constexpr double kDeg = 3.14159265358979323846 / 180.0;
 const std::string kIcl = std::string(VIGS_SHARED_DATA_DIR) + "/icl_nuim_livingroom1/";
 
 struct Data {
-  io::ImageF32 depth0, depth2;
-  io::ImageU8 rgb0, rgb2;
+  ImageF32 depth0, depth2;
+  ImageU8 rgb0, rgb2;
   geometry::Pose T_2_0_true;
   geometry::Pose T_2_0_imu;  // truth perturbed by 5 mm and 0.3 deg
   PinholeCamera camera{640, 480, 525.0, 525.0, 319.5, 239.5};
@@ -93,7 +93,7 @@ BENCHMARK(BM_DepthToPoints)->Unit(benchmark::kMillisecond);
 // neighbours through the image (knn_kdtree:0, the default) or a kd-tree (1).
 void BM_Preprocess(benchmark::State& state) {
   const Data& d = data();
-  ForkJoin team(static_cast<int>(state.range(0)));
+  rt::WorkerTeam team(static_cast<int>(state.range(0)));
   const KnnSearch knn = state.range(1) == 0 ? KnnSearch::image_grid : KnnSearch::kd_tree;
   FramePreprocessor pre(d.camera, pre_setting(Regularization::normalized_ellipse, knn), team);
   GaussianCloud cloud;
@@ -113,7 +113,7 @@ BENCHMARK(BM_Preprocess)
 // The same plus a kd-tree over the points, as for a GICP target (CloudTarget).
 void BM_PreprocessTarget(benchmark::State& state) {
   const Data& d = data();
-  ForkJoin team(static_cast<int>(state.range(0)));
+  rt::WorkerTeam team(static_cast<int>(state.range(0)));
   FramePreprocessor pre(d.camera, pre_setting(), team);
   GaussianCloud cloud;
   KdTree tree;
@@ -258,7 +258,7 @@ void BM_Align(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(1));
   const Regularization reg =
       state.range(2) == 0 ? Regularization::normalized_ellipse : Regularization::plane;
-  ForkJoin team(threads);
+  rt::WorkerTeam team(threads);
   FramePreprocessor pre(d.camera, pre_setting(reg), team);
   Prepared p;
   pre.process(d.depth0, d.rgb0, p.src);
@@ -286,7 +286,7 @@ BENCHMARK(BM_Align)
 void BM_TrackingStep(benchmark::State& state) {
   const Data& d = data();
   const int threads = static_cast<int>(state.range(1));
-  ForkJoin team(threads);
+  rt::WorkerTeam team(threads);
   FramePreprocessor pre(d.camera, pre_setting(), team);
   Prepared p;
   pre.process(d.depth2, d.rgb2, p.tgt, p.tgt_tree, &p.tgt_grid);
@@ -341,8 +341,8 @@ BENCHMARK(BM_TrackerFrameVsLocalMap)
 // iterations per frame and the last frame's error.
 void BM_TrackerSequenceByGuessMode(benchmark::State& state) {
   const Data& d = data();
-  static const std::vector<std::pair<io::ImageF32, io::ImageU8>> frames = [] {
-    std::vector<std::pair<io::ImageF32, io::ImageU8>> f;
+  static const std::vector<std::pair<ImageF32, ImageU8>> frames = [] {
+    std::vector<std::pair<ImageF32, ImageU8>> f;
     for (int i = 0; i < 5; ++i) {
       char name[16];
       std::snprintf(name, sizeof name, "%05d", i);

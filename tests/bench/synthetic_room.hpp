@@ -4,22 +4,21 @@
 #include <cmath>
 #include <vector>
 
-#include "io/image.hpp"
+#include "core/types/image.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/rgbd_keyframe.hpp"
 
 namespace vigs::bench {
 
 struct RoomView {
-  io::ImageU8 rgb;
-  io::ImageF32 depth_m;
+  ImageU8 rgb;
+  ImageF32 depth_m;
   Eigen::Isometry3d T_w_c;
 };
 
 /// Room [-3, 3] x [-1.5, 1.5] x [-2, 2] m with stripe-and-checker texture.
 inline RoomView render_room(const PinholeCamera& k, const Eigen::Isometry3d& T_w_c) {
-  RoomView v{io::ImageU8(k.width_px, k.height_px, 3), io::ImageF32(k.width_px, k.height_px, 1),
-             T_w_c};
+  RoomView v{ImageU8(k.width_px, k.height_px, 3), ImageF32(k.width_px, k.height_px, 1), T_w_c};
   const Eigen::Vector3d lo(-3, -1.5, -2), hi(3, 1.5, 2);
   const Eigen::Vector3d o = T_w_c.translation();
   for (int y = 0; y < k.height_px; ++y) {

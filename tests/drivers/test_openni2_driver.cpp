@@ -4,6 +4,7 @@
 // consumed from the FrameHandle ring by a test thread.
 #include <OpenNI.h>
 #include <gtest/gtest.h>
+#include <sys/types.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -393,6 +394,156 @@ TEST_F(Openni2Driver, StopReturnsWhileTheEndMarkerWaitsForRoom) {
   EXPECT_EQ(ring.size(), 2u);  // no marker was forced in
   rt::FrameHandle h;
   while (ring.try_pop(h)) pool.release(h);
+  EXPECT_EQ(pool.available(), pool.capacity());
+}
+
+// Cuts a clip file to its first half (the test's own truncation, as a copy cut short would be).
+void cut_in_half(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  ASSERT_NE(f, nullptr);
+  std::vector<char> bytes(1 << 22);
+  const std::size_t n = std::fread(bytes.data(), 1, bytes.size(), f);
+  std::fclose(f);
+  ASSERT_GT(n, 0u);
+  ASSERT_LT(n, bytes.size());
+  ASSERT_EQ(::truncate(path.c_str(), static_cast<off_t>(n / 2)), 0);
+}
+
+// The clip frame a slot holds, from its depth pattern (depth_at(f, 0, 0) = 400 + 1000 f).
+std::uint64_t clip_frame_of(const rt::Frame& frame) {
+  return (frame.depth[0] - 400u) / 1000u;
+}
+
+TEST_F(Openni2Driver, TruncatedClipEndsWithAClearErrorInsteadOfAHang) {
+  // OpenNI2's player spins at 100 % CPU at the end of a clip cut short and never delivers the
+  // frames the header promises: the progress watchdog ends the stream, naming the file.
+  constexpr int kFrames = 20;
+  const std::string path = write_clip("truncated.oni", kFrames);
+  cut_in_half(path);
+  rt::FramePool pool(pool_for(kFrames + 2));
+  rt::SpscRing<rt::FrameHandle> ring(32);
+  Openni2DriverSettings s = settings_for(path);
+  s.frame_timeout_ms = 400;
+  drivers::Openni2Driver driver(s, pool, ring);
+  driver.start();
+  Received got;
+  const auto t0 = Clock::now();
+  std::thread consumer([&] { got = consume(ring, pool, 10000ms); });
+  consumer.join();
+  const double end_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  EXPECT_LT(end_ms, 5000.0);
+  EXPECT_TRUE(got.end_marker);
+  EXPECT_TRUE(driver.end_of_stream());
+  EXPECT_EQ(driver.state(), DeviceState::kFailed);
+  EXPECT_EQ(driver.fault(), DeviceFault::kFrameTimeout);
+  const std::string msg = driver.fault_message();
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+  EXPECT_NE(msg.find("no progress"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("of 20 depth frames"), std::string::npos) << msg;
+  // The frames before the cut arrived intact and in order: nothing played is lost.
+  EXPECT_GE(got.sequence.size(), 5u);
+  EXPECT_LT(got.sequence.size(), static_cast<std::size_t>(kFrames));
+  for (std::size_t i = 0; i < got.sequence.size(); ++i) EXPECT_EQ(got.sequence[i], i);
+  EXPECT_EQ(got.bad_pixels, 0);
+  const RgbdDriverCounters c = driver.counters();
+  EXPECT_EQ(c.frame_timeouts, 1u);
+  EXPECT_EQ(c.losses, 1u);
+  EXPECT_EQ(c.reopens, 0u);  // a clip is not reopened by default
+  EXPECT_EQ(c.delivered, got.sequence.size());
+  driver.stop();
+  EXPECT_EQ(pool.available(), pool.capacity());
+}
+
+TEST_F(Openni2Driver, DeviceThatAppearsLaterIsOpenedWithBackoff) {
+  constexpr int kFrames = 5;
+  const std::string path = temp_path("later.oni");
+  std::remove(path.c_str());
+  rt::FramePool pool(pool_for(kFrames + 2));
+  rt::SpscRing<rt::FrameHandle> ring(16);
+  Openni2DriverSettings s = settings_for(path);
+  s.wait_for_device = true;
+  s.reopen_files = true;
+  drivers::Openni2Driver driver(s, pool, ring);
+  driver.start();  // does not throw: the thread keeps trying
+  ASSERT_TRUE(wait_until([&] { return driver.counters().open_failures >= 2; }, 5000ms));
+  EXPECT_EQ(driver.state(), DeviceState::kOpening);
+  EXPECT_FALSE(driver.end_of_stream());
+  EXPECT_EQ(write_clip("later.oni", kFrames), path);  // atomically renamed into place
+  Received got;
+  std::thread consumer([&] { got = consume(ring, pool, 10000ms); });
+  consumer.join();
+  EXPECT_TRUE(got.end_marker);
+  EXPECT_EQ(driver.fault(), DeviceFault::kNone);
+  ASSERT_EQ(got.sequence.size(), static_cast<std::size_t>(kFrames));
+  EXPECT_EQ(got.bad_pixels, 0);
+  const RgbdDriverCounters c = driver.counters();
+  EXPECT_EQ(c.opens, 1u);
+  EXPECT_GE(c.open_failures, 2u);
+  EXPECT_EQ(c.losses, 0u);
+  driver.stop();
+}
+
+TEST_F(Openni2Driver, LostStreamIsReopenedWhenTheDeviceComesBack) {
+  // A device that goes away mid-stream and comes back: the path first holds a clip cut short
+  // (its playback stalls, as a camera that stops sending does), then a whole clip is renamed
+  // over it. The driver loses the stream, closes, reopens by path with backoff and plays the
+  // new clip to its end, with fresh stamps and the frame counter running on.
+  constexpr int kFrames = 8;
+  const std::string path = write_clip("comes_back.oni", 16);
+  cut_in_half(path);
+  rt::FramePool pool(pool_for(40));
+  rt::SpscRing<rt::FrameHandle> ring(64);
+  Openni2DriverSettings s = settings_for(path);
+  s.frame_timeout_ms = 300;
+  s.reopen_files = true;
+  drivers::Openni2Driver driver(s, pool, ring);
+  driver.start();
+  ASSERT_TRUE(wait_until([&] { return driver.counters().losses >= 1; }, 5000ms));
+  EXPECT_FALSE(driver.end_of_stream());
+  EXPECT_EQ(write_clip("comes_back.oni", kFrames), path);
+  std::vector<std::uint64_t> clip_frames;
+  Received got;
+  std::thread consumer([&] {
+    const auto deadline = Clock::now() + 15000ms;
+    while (Clock::now() < deadline) {
+      rt::FrameHandle h;
+      if (!ring.try_pop(h)) {
+        std::this_thread::sleep_for(100us);
+        continue;
+      }
+      if (!h.valid()) {
+        got.end_marker = true;
+        break;
+      }
+      const rt::Frame& f = pool.frame(h);
+      clip_frames.push_back(clip_frame_of(f));
+      got.sequence.push_back(f.sequence);
+      got.t_ns.push_back(f.t_ns);
+      got.bad_pixels += bad_pixels(f, clip_frame_of(f));
+      pool.release(h);
+    }
+  });
+  consumer.join();
+  EXPECT_TRUE(got.end_marker);
+  EXPECT_EQ(driver.state(), DeviceState::kEnded);
+  EXPECT_EQ(driver.fault(), DeviceFault::kNone);
+  EXPECT_EQ(got.bad_pixels, 0);
+  // The whole new clip arrived last, in order.
+  ASSERT_GE(clip_frames.size(), static_cast<std::size_t>(kFrames + 1));
+  for (int i = 0; i < kFrames; ++i) {
+    EXPECT_EQ(clip_frames[clip_frames.size() - kFrames + i], static_cast<std::uint64_t>(i));
+  }
+  for (std::size_t i = 1; i < got.sequence.size(); ++i) {
+    EXPECT_GT(got.sequence[i], got.sequence[i - 1]);
+    EXPECT_GT(got.t_ns[i], got.t_ns[i - 1]);
+  }
+  const RgbdDriverCounters c = driver.counters();
+  EXPECT_GE(c.reopens, 1u);
+  EXPECT_EQ(c.opens, c.reopens + 1);
+  EXPECT_GE(c.frame_timeouts, 1u);
+  EXPECT_EQ(c.losses, c.frame_timeouts);
+  EXPECT_EQ(c.delivered + c.dropped_ring_full + c.dropped_pool_empty, c.frames_read);
+  driver.stop();
   EXPECT_EQ(pool.available(), pool.capacity());
 }
 

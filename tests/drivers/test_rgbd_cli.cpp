@@ -1,6 +1,7 @@
 // `vigs rgbd play FILE.oni` as a real process: one JSON line per frame with the clip's centre
 // pixels and 1/30 s stamp steps, then the driver's counters; a missing file exits 1 naming it.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -72,6 +73,28 @@ TEST(RgbdCli, PlaysAClipFrameByFrameThenPrintsCounters) {
   EXPECT_NE(last.find("\"delivered\": 6"), std::string::npos) << last;
   EXPECT_NE(last.find("\"dropped_ring_full\": 0"), std::string::npos) << last;
   EXPECT_NE(last.find("\"end_of_stream\": true"), std::string::npos) << last;
+}
+
+TEST(RgbdCli, TruncatedClipExitsOneNamingItInsteadOfHanging) {
+  constexpr std::uint32_t w = 32, h = 24;
+  const std::string clip = temp_path("half.oni");
+  {
+    io::oni::OniClipWriter writer(clip, {w, h, 30});
+    std::vector<std::uint16_t> depth(w * h, 1000);
+    std::vector<std::uint8_t> rgb(w * h * 3, 7);
+    for (int f = 0; f < 20; ++f) writer.add_frame(depth, rgb);
+    writer.close();
+  }
+  struct stat st {};
+  ASSERT_EQ(::stat(clip.c_str(), &st), 0);
+  ASSERT_EQ(::truncate(clip.c_str(), st.st_size / 2), 0);
+  // `timeout` turns a hang into exit 124 instead of a stuck test.
+  const auto [out, status] = run("timeout 30 " + std::string(VIGS_BIN) + " rgbd play " + clip +
+                                 " --width 32 --height 24 --frame-timeout-ms 500");
+  EXPECT_EQ(status, 1) << out;
+  EXPECT_NE(out.find(clip + "': playback made no progress"), std::string::npos) << out;
+  EXPECT_NE(out.find("\"fault\": \"frame timeout\""), std::string::npos) << out;
+  EXPECT_NE(out.find("\"sequence\": 0"), std::string::npos) << out;  // frames before the cut
 }
 
 TEST(RgbdCli, MissingFileExitsOneNamingIt) {

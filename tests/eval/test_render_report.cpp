@@ -118,9 +118,9 @@ class RenderReportTest : public ::testing::Test {
       if (i % kKeyframeEvery != 0) continue;
       keyframes_.push_back(t);
       const sim::RgbdFrame& f = tee.frames[i];
-      io::ImageU8 rgb(f.width, f.height, 3);
+      ImageU8 rgb(f.width, f.height, 3);
       rgb.data = f.color;
-      io::ImageF32 depth(f.width, f.height, 1);
+      ImageF32 depth(f.width, f.height, 1);
       depth.data = f.depth_m;
       inserter.insert(map, mapping::keyframe_from_rgbd(k, rgb, depth, T_w_c, sampling));
       View v;
@@ -133,7 +133,7 @@ class RenderReportTest : public ::testing::Test {
     }
     config::MappingSettings ms;
     ms.threads = 2;
-    mapping::WorkerPool pool(ms.threads);
+    vigs::rt::WorkerTeam pool(ms.threads);
     mapping::MapOptimizer opt(ms, &pool);
     for (int it = 0; it < 100; ++it)
       opt.iterate(map, views[static_cast<std::size_t>(it) % views.size()].view);
@@ -228,7 +228,7 @@ TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
 
   // Rendered | recorded, three rows.
   ASSERT_EQ(good.quality.side_by_side_t_s.size(), 3u);
-  const io::ImageU8 sbs = io::read_image_u8(good.quality.side_by_side_png);
+  const ImageU8 sbs = io::read_image_u8(good.quality.side_by_side_png);
   EXPECT_EQ(sbs.width, 2 * 240);
   EXPECT_EQ(sbs.height, 3 * 160);
   EXPECT_EQ(sbs.channels, 3);

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/image.hpp"
+#include "core/types/image.hpp"
 #include "io/image_io.hpp"
 #include "mapping/ply_io.hpp"
 
@@ -51,14 +51,14 @@ int main(int argc, char** argv) {
 
   int index = 0;
   for (const int channels : {1, 3, 4}) {
-    vigs::io::ImageU8 img(5, 3, channels);
+    vigs::ImageU8 img(5, 3, channels);
     for (std::size_t i = 0; i < img.data.size(); ++i) img.data[i] = static_cast<std::uint8_t>(i);
     vigs::io::write_png(tmp.string(), img);
     const auto bytes = read_bytes(tmp);
     for (int selector = 0; selector < 4; ++selector)
       write_seed(root / "image" / ("seed_" + std::to_string(index++)), bytes, selector);
   }
-  vigs::io::ImageU16 depth(4, 4, 1);
+  vigs::ImageU16 depth(4, 4, 1);
   for (std::size_t i = 0; i < depth.data.size(); ++i)
     depth.data[i] = static_cast<std::uint16_t>(1000 + i);
   vigs::io::write_png_u16(tmp.string(), depth);

@@ -119,8 +119,8 @@ inline void write_recording(const std::string& path, int n,
   opt.profile = "ros2";
   io::mcap::McapWriter w(path, opt);
   const auto ch_info = add_channel<CameraInfo>(w, "/vigs/camera_info");
-  const auto ch_rgb = add_channel<Image>(w, "/vigs/rgb");
-  const auto ch_depth = add_channel<Image>(w, "/vigs/depth");
+  const auto ch_rgb = add_channel<io::ros_msgs::Image>(w, "/vigs/rgb");
+  const auto ch_depth = add_channel<io::ros_msgs::Image>(w, "/vigs/depth");
   const auto ch_imu = add_channel<Imu>(w, "/vigs/imu");
   const auto ch_pose = add_channel<PoseStamped>(w, "/vigs/ground_truth/body_pose");
   std::vector<std::uint8_t> buf;

@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <limits>
 
+#include "core/types/image.hpp"
 #include "drivers/serial_imu/xsens_encoder.hpp"
 #include "drivers/serial_imu/xsens_parser.hpp"
-#include "io/image.hpp"
 #include "io/image_io.hpp"
 #include "mapping/ply_io.hpp"
 #include "tests/hostile/hostile_util.hpp"
@@ -147,8 +147,8 @@ TEST(HostileSerialImu, NonFiniteSampleIsDroppedAndCounted) {
 
 TEST(HostileMap, DepthWithNoValidPixelIsAnErrorNotAnEmptyMap) {
   TempDir dir;
-  io::ImageU8 rgb(32, 24, 3);
-  io::ImageU16 depth(32, 24, 1);  // all 0: invalid, as NaN / Inf / out-of-range depth becomes
+  vigs::ImageU8 rgb(32, 24, 3);
+  vigs::ImageU16 depth(32, 24, 1);  // all 0: invalid, as NaN / Inf / out-of-range depth becomes
   io::write_png(dir.file("c.png"), rgb);
   io::write_png_u16(dir.file("d.png"), depth);
   write_text(dir.file("cam.yaml"),

@@ -35,7 +35,7 @@ TEST(MappingOptimize, PerturbedSceneConvergesToStatedPsnr) {
     c.t_c_w[0] += 0.08 * (v - 1);
     cams.push_back(c);
   }
-  WorkerPool pool(2);
+  rt::WorkerTeam pool(2);
   Rasterizer<float> ras(RasterSettings{}, &pool);
   std::vector<std::vector<float>> rgb(3), depth(3);
   for (int v = 0; v < 3; ++v) {
@@ -104,7 +104,7 @@ TEST(MappingOptimize, FusedAdamStepEqualsGradientThenStep) {
   const RenderCamera cam = test::small_camera(64, 48, 60.0);
   GaussianMap a = test::random_gaussians<float>(40, 5);
   GaussianMap b = a;
-  WorkerPool pool(2);
+  rt::WorkerTeam pool(2);
   Rasterizer<float> ras(RasterSettings{}, &pool);
   RenderResult<float> r;
   ras.forward(a, cam, r);

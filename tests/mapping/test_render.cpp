@@ -107,7 +107,7 @@ TEST(MappingRender, ThreadsGiveBitIdenticalImagesAndGradients) {
   RasterSettings rs;
   rs.use_simd = false;
   Rasterizer<float> one(rs);
-  WorkerPool pool(2);
+  rt::WorkerTeam pool(2);
   Rasterizer<float> two(rs, &pool);
   RenderResult<float> a, b;
   one.forward(g, cam, a);

@@ -44,7 +44,7 @@ TEST(MappingSsim, Kodim10NoisyCopiesMatchPytorchMsssim) {
 TEST(MappingSsim, IdenticalImagesAndBadInput) {
   const auto a = io::read_image_u8(kImages + "camera.png");
   EXPECT_DOUBLE_EQ(ssim_u8(a, a, SsimWindow::kGaussian11), 1.0);
-  io::ImageU8 small(5, 5, 1);
+  ImageU8 small(5, 5, 1);
   EXPECT_THROW(ssim_u8(a, small, SsimWindow::kGaussian11), std::invalid_argument);
   EXPECT_THROW(ssim_u8(small, small, SsimWindow::kGaussian11), std::invalid_argument);
   EXPECT_THROW(parse_ssim_window("box3"), std::invalid_argument);

@@ -92,19 +92,19 @@ TEST_F(SimulatedOffice, LostFramesAreImuPropagatedAndTrackingResumes) {
   opt.guess = tracking::InitialGuessMode::imu;
   std::optional<Odometry> odometry;
   ImuFeeder feeder(motion_.imu);
-  io::ImageF32 blank;
   std::vector<TrackedFrame> frames;
   eval::for_each_recorded_frame(path_, [&](const eval::RecordedFrame& rec) {
-    const auto t_ns = static_cast<std::int64_t>(std::llround(rec.t_s * 1e9));
+    const std::int64_t t_ns = rec.view.t_ns;
     if (!odometry) {
       InitialPoseSource used;
       opt.initial_T_w_c = initial_camera_pose(motion_, t_ns, cfg_, used);
       odometry.emplace(cfg_, rec.camera, opt);
-      blank = io::ImageF32(rec.camera.width_px, rec.camera.height_px, 1);  // all zero = invalid
     }
     feeder.feed_until(t_ns, *odometry);
     const bool in_gap = rec.index >= kGapBegin && rec.index < kGapEnd;
-    frames.push_back(odometry->track(t_ns, in_gap ? blank : rec.depth_m, rec.rgb));
+    RgbdView frame = rec.view;
+    if (in_gap) frame.depth_encoding = DepthEncoding::none;  // no measurement anywhere
+    frames.push_back(odometry->track(frame));
   });
   ASSERT_EQ(frames.size(), 101u);
   const eval::Trajectory gt = testing::ground_truth_camera(motion_, frames, cfg_);

@@ -69,7 +69,16 @@ TEST(ThreadTable, HoldsEveryVigsThread) {
     EXPECT_LE(s.name.view().size(), ThreadName::kMaxLength);
   }
   EXPECT_EQ(names, (std::set<std::string_view>{"rgbd_driver", "imu_driver", "gpio_trigger",
-                                               "tracker", "mapper", "dds_pub", "recorder"}));
+                                               "tracker", "tracker_w1", "mapper", "mapper_w1",
+                                               "dds_pub", "recorder"}));
+  EXPECT_EQ(thread_spec("tracker_w1").sched_fifo_priority,
+            thread_spec("tracker").sched_fifo_priority);
+  EXPECT_NE(thread_spec("tracker_w1").cpu, thread_spec("tracker").cpu);
+  const ThreadSpec off = apply_policy(thread_spec("tracker"), false, false);
+  EXPECT_EQ(off.sched_fifo_priority, 0);
+  EXPECT_EQ(off.cpu, -1);
+  EXPECT_EQ(off.period_ns, thread_spec("tracker").period_ns);
+  EXPECT_EQ(apply_policy(thread_spec("tracker"), true, true).cpu, thread_spec("tracker").cpu);
   EXPECT_EQ(thread_spec("tracker").period_ns, ms_to_ns(50));
   EXPECT_GT(thread_spec("mapper").period_ns, 0);
   EXPECT_GT(thread_spec("rgbd_driver").sched_fifo_priority,

@@ -15,13 +15,13 @@ namespace {
 
 TEST(DepthToPoints, SkipsAndCountsInvalidNearAndFarDepth) {
   const PinholeCamera cam{8, 4, 100.0, 100.0, 3.5, 1.5};
-  io::ImageF32 depth(8, 4, 1, 2.0f);
+  ImageF32 depth(8, 4, 1, 2.0f);
   depth.at(0, 0) = std::numeric_limits<float>::quiet_NaN();
   depth.at(1, 0) = 0.0f;
   depth.at(2, 0) = -1.0f;
   depth.at(3, 0) = 0.05f;  // near
   depth.at(4, 0) = 9.0f;   // far
-  io::ImageU8 rgb(8, 4, 3, 0);
+  ImageU8 rgb(8, 4, 3, 0);
   rgb.at(5, 1, 0) = 200;
   DepthToPoints::Setting s;
   s.pixel_stride = 1;
@@ -49,18 +49,18 @@ TEST(DepthToPoints, SkipsAndCountsInvalidNearAndFarDepth) {
 
 TEST(DepthToPoints, StrideAndRawScaleAndVoxelGrid) {
   const PinholeCamera cam{64, 48, 50.0, 50.0, 31.5, 23.5};
-  io::ImageU16 raw(64, 48, 1, 1500);  // 1.5 m in millimetres
+  ImageU16 raw(64, 48, 1, 1500);  // 1.5 m in millimetres
   DepthToPoints::Setting s;
   s.pixel_stride = 4;
   DepthToPoints d2p(cam, s);
   GaussianCloud cloud;
-  DepthToPointsStats st = d2p.convert(raw, 0.001, io::ImageU8{}, cloud);
+  DepthToPointsStats st = d2p.convert(raw, 0.001, ImageU8{}, cloud);
   EXPECT_EQ(st.sampled, 16 * 12);
   EXPECT_EQ(st.points, 16 * 12);
   EXPECT_FLOAT_EQ(cloud.points_m[0].z(), 1.5f);
   s.voxel_size_m = 0.5;  // the 1.5 m plane spans ~1.9 x 1.4 m: a few voxels
   DepthToPoints voxel(cam, s);
-  st = voxel.convert(raw, 0.001, io::ImageU8{}, cloud);
+  st = voxel.convert(raw, 0.001, ImageU8{}, cloud);
   EXPECT_LT(st.points, 30);
   EXPECT_GT(st.points, 3);
   for (const auto& p : cloud.points_m) {
@@ -72,10 +72,9 @@ TEST(DepthToPoints, MismatchedColourIsAnError) {
   const PinholeCamera cam{8, 4, 100.0, 100.0, 3.5, 1.5};
   DepthToPoints d2p(cam, {});
   GaussianCloud cloud;
-  EXPECT_THROW(d2p.convert(io::ImageF32(8, 4, 1, 1.0f), io::ImageU8(4, 4, 3), cloud),
+  EXPECT_THROW(d2p.convert(ImageF32(8, 4, 1, 1.0f), ImageU8(4, 4, 3), cloud),
                std::invalid_argument);
-  EXPECT_THROW(d2p.convert(io::ImageF32(9, 4, 1, 1.0f), io::ImageU8{}, cloud),
-               std::invalid_argument);
+  EXPECT_THROW(d2p.convert(ImageF32(9, 4, 1, 1.0f), ImageU8{}, cloud), std::invalid_argument);
 }
 
 TEST(KdTree, MatchesBruteForce) {
@@ -114,7 +113,7 @@ TEST(KdTree, ParallelBuildGivesTheSameTree) {
   std::vector<Eigen::Vector3f> pts(20000);
   for (auto& p : pts) p = Eigen::Vector3f(u(rng), u(rng), u(rng));
   KdTree serial, parallel;
-  ForkJoin team(2);
+  rt::WorkerTeam team(2);
   serial.build(pts);
   parallel.build(pts, &team);
   ASSERT_EQ(serial.leaf_order(), parallel.leaf_order());

@@ -46,8 +46,8 @@ struct Frame {
 void load_icl(int index, FramePreprocessor& pre, Frame& f) {
   char name[32];
   std::snprintf(name, sizeof name, "%05d", index);
-  const io::ImageF32 depth = io::read_depth_m(kIcl + "depth_" + name + ".png", 0.001);
-  const io::ImageU8 rgb = io::read_rgb(kIcl + "color_" + name + ".jpg");
+  const ImageF32 depth = io::read_depth_m(kIcl + "depth_" + name + ".png", 0.001);
+  const ImageU8 rgb = io::read_rgb(kIcl + "color_" + name + ".jpg");
   f.stats = pre.process(depth, rgb, f.cloud, f.tree);
 }
 
@@ -55,7 +55,7 @@ TEST(GicpReal, IclNuimFrame0To2FromIdentityWithin7mmAnd03deg) {
   const auto poses = read_icl_trajectory(kIcl + "trajectory.log");
   ASSERT_GE(poses.size(), 3u);
   const geometry::Pose T_2_0_true = poses[2].inverse() * poses[0];
-  ForkJoin team(2);
+  rt::WorkerTeam team(2);
   FramePreprocessor::Setting ps;  // pixel stride 4, k = 10, normalised ellipse
   FramePreprocessor pre(icl_camera(), ps, team);
   Frame f0, f2;
@@ -80,7 +80,7 @@ TEST(GicpReal, IclNuimFrame0To2FromIdentityWithin7mmAnd03deg) {
 TEST(GicpReal, IclNuimFrame0ToOthersFromIdentity) {
   const auto poses = read_icl_trajectory(kIcl + "trajectory.log");
   ASSERT_GE(poses.size(), 5u);
-  ForkJoin team(2);
+  rt::WorkerTeam team(2);
   FramePreprocessor pre(icl_camera(), FramePreprocessor::Setting{}, team);
   Frame f0;
   load_icl(0, pre, f0);
@@ -103,9 +103,9 @@ TEST(GicpReal, IclNuimFrame0ToOthersFromIdentity) {
 
 TEST(GicpReal, UHumans2FrameLoadsAndAlignsToItselfUnderKnownOffset) {
   const PinholeCamera cam{720, 480, 415.69219381653056, 415.69219381653056, 360.0, 240.0};
-  const io::ImageF32 depth = io::read_depth_m(kUh + "depth_img_0.tiff", 1.0);
-  const io::ImageU8 rgb = io::read_rgb(kUh + "left_img_0.png");
-  ForkJoin team(2);
+  const ImageF32 depth = io::read_depth_m(kUh + "depth_img_0.tiff", 1.0);
+  const ImageU8 rgb = io::read_rgb(kUh + "left_img_0.png");
+  rt::WorkerTeam team(2);
   FramePreprocessor::Setting ps;
   ps.depth.far_m = 10.0;
   FramePreprocessor pre(cam, ps, team);

@@ -25,7 +25,7 @@ void prepare(const std::vector<Eigen::Vector3f>& pts, Prepared& out,
   out.cloud.points_m = pts;
   out.cloud.colors_rgb.assign(pts.size(), {0, 0, 0});
   out.tree.build(out.cloud.points_m);
-  ForkJoin team(2);
+  rt::WorkerTeam team(2);
   CovarianceSetting cs;
   cs.regularization = reg;
   estimate_covariances(out.tree, cs, team, out.cloud);
@@ -160,34 +160,6 @@ TEST(Gicp, OneAndTwoThreadsAgree) {
   EXPECT_LT(e.translation_m, 1e-9);
   EXPECT_LT(e.rotation_rad, 1e-9);
   EXPECT_EQ(r1.num_inliers, r2.num_inliers);
-}
-
-TEST(ForkJoin, EveryMemberRunsOnceOnItsFixedChunk) {
-  ForkJoin team(2);
-  std::vector<int> hits(1001, 0);
-  for (int round = 0; round < 500; ++round) {
-    team.run([&](int t) {
-      std::size_t begin = 0, end = 0;
-      ForkJoin::chunk(hits.size(), t, team.size(), begin, end);
-      for (std::size_t i = begin; i < end; ++i) ++hits[i];
-    });
-  }
-  for (const int h : hits) ASSERT_EQ(h, 500);
-  std::vector<int> owner(1001, -1);
-  team.run([&](int t) {
-    ForkJoin::for_each_interleaved(owner.size(), t, team.size(), 64, [&](std::size_t i) {
-      owner[i] = owner[i] == -1 ? t : 99;  // 99: visited twice
-    });
-  });
-  for (std::size_t i = 0; i < owner.size(); ++i) {
-    ASSERT_EQ(owner[i], static_cast<int>((i / 64) % 2)) << i;
-  }
-  std::size_t b0 = 0, e0 = 0, b1 = 0, e1 = 0;
-  ForkJoin::chunk(1001, 0, 2, b0, e0);
-  ForkJoin::chunk(1001, 1, 2, b1, e1);
-  EXPECT_EQ(b0, 0u);
-  EXPECT_EQ(e0, b1);
-  EXPECT_EQ(e1, 1001u);
 }
 
 TEST(Gicp, SinglePlaneIsDegenerate) {

@@ -52,15 +52,14 @@ int check_all(const GaussianCloud& cloud, const PixelGrid& grid, const Organized
 }
 
 TEST(OrganizedKnn, MatchesBruteForceOnIclNuimAtSeveralStrides) {
-  const io::ImageF32 depth =
-      io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
+  const ImageF32 depth = io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
   const PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5};
   for (const int stride : {2, 4, 8}) {
     DepthToPoints::Setting s;
     s.pixel_stride = stride;
     GaussianCloud cloud;
     PixelGrid grid;
-    DepthToPoints(cam, s).convert(depth, io::ImageU8{}, cloud, &grid);
+    DepthToPoints(cam, s).convert(depth, ImageU8{}, cloud, &grid);
     ASSERT_TRUE(grid.describes(cloud.size()));
     const OrganizedKnn knn;
     // Stride 2 has ~67k points: check a sample of them.
@@ -76,12 +75,12 @@ TEST(OrganizedKnn, MatchesBruteForceOnIclNuimAtSeveralStrides) {
 TEST(OrganizedKnn, MatchesBruteForceOnUhumans2) {
   const std::string dir = kData + "/uhumans2_frames/";
   const PinholeCamera cam = load_camera_file(dir + "sensorLeft.yaml");
-  const io::ImageF32 depth = io::read_tiff_f32(dir + "depth_img_0.tiff");
+  const ImageF32 depth = io::read_tiff_f32(dir + "depth_img_0.tiff");
   DepthToPoints::Setting s;
   s.pixel_stride = 4;
   GaussianCloud cloud;
   PixelGrid grid;
-  DepthToPoints(cam, s).convert(depth, io::ImageU8{}, cloud, &grid);
+  DepthToPoints(cam, s).convert(depth, ImageU8{}, cloud, &grid);
   ASSERT_GT(cloud.size(), 1000u);
   const int certified = check_all(cloud, grid, OrganizedKnn{}, 10);
   EXPECT_GT(certified, static_cast<int>(cloud.size()) * 95 / 100);
@@ -90,8 +89,8 @@ TEST(OrganizedKnn, MatchesBruteForceOnUhumans2) {
 // A synthetic depth image with what defeats image-space neighbourhoods: a wall seen at a
 // grazing angle, a foreground box edge in front of it, isolated flying pixels, a region very
 // close to the camera and holes.
-io::ImageF32 hostile_depth(int w, int h) {
-  io::ImageF32 depth(w, h, 1, 0.0f);
+ImageF32 hostile_depth(int w, int h) {
+  ImageF32 depth(w, h, 1, 0.0f);
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> noise(-0.002f, 0.002f);
   for (int v = 0; v < h; ++v) {
@@ -116,7 +115,7 @@ TEST(OrganizedKnn, ExactOrUncertifiedOnHostileDepth) {
   s.pixel_stride = 1;
   GaussianCloud cloud;
   PixelGrid grid;
-  DepthToPoints(cam, s).convert(hostile_depth(w, h), io::ImageU8{}, cloud, &grid);
+  DepthToPoints(cam, s).convert(hostile_depth(w, h), ImageU8{}, cloud, &grid);
   for (const int max_ring : {2, 10}) {
     const OrganizedKnn knn(max_ring);
     const int certified = check_all(cloud, grid, knn, 10);
@@ -130,14 +129,14 @@ TEST(OrganizedKnn, ExactOrUncertifiedOnHostileDepth) {
 
 TEST(OrganizedKnn, FewerPointsThanKIsUncertified) {
   const PinholeCamera cam{4, 4, 10.0, 10.0, 1.5, 1.5};
-  io::ImageF32 depth(4, 4, 1, 0.0f);
+  ImageF32 depth(4, 4, 1, 0.0f);
   depth.at(1, 1) = 1.0f;
   depth.at(2, 2) = 1.0f;
   DepthToPoints::Setting s;
   s.pixel_stride = 1;
   GaussianCloud cloud;
   PixelGrid grid;
-  DepthToPoints(cam, s).convert(depth, io::ImageU8{}, cloud, &grid);
+  DepthToPoints(cam, s).convert(depth, ImageU8{}, cloud, &grid);
   std::uint32_t idx[10];
   float d2[10];
   EXPECT_EQ(OrganizedKnn{}.knn(grid, cloud.points_m, 0, 3, idx, d2), -1);
@@ -149,9 +148,9 @@ TEST(OrganizedKnn, FewerPointsThanKIsUncertified) {
 TEST(FramePreprocessor, ImageGridCovariancesEqualKdTreeCovariances) {
   const int w = 160, h = 120;
   const PinholeCamera cam{w, h, 120.0, 120.0, 79.5, 59.5};
-  const io::ImageF32 depth = hostile_depth(w, h);
+  const ImageF32 depth = hostile_depth(w, h);
   for (const int threads : {1, 2}) {
-    ForkJoin team(threads);
+    rt::WorkerTeam team(threads);
     FramePreprocessor::Setting s;
     s.depth.pixel_stride = 1;
     s.covariance.knn_search = KnnSearch::kd_tree;
@@ -159,8 +158,8 @@ TEST(FramePreprocessor, ImageGridCovariancesEqualKdTreeCovariances) {
     s.covariance.knn_search = KnnSearch::image_grid;
     FramePreprocessor by_image(cam, s, team);
     GaussianCloud a, b;
-    by_tree.process(depth, io::ImageU8{}, a);
-    by_image.process(depth, io::ImageU8{}, b);
+    by_tree.process(depth, ImageU8{}, a);
+    by_image.process(depth, ImageU8{}, b);
     EXPECT_EQ(by_tree.last_knn_fallbacks(), 0u);
     EXPECT_GT(by_image.last_knn_fallbacks(), 0u);  // the flying pixels at least
     EXPECT_LT(by_image.last_knn_fallbacks(), a.size() / 10);
@@ -174,14 +173,13 @@ TEST(FramePreprocessor, ImageGridCovariancesEqualKdTreeCovariances) {
 }
 
 TEST(FramePreprocessor, ImageGridResultIsTheSameForOneAndTwoThreads) {
-  const io::ImageF32 depth =
-      io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
+  const ImageF32 depth = io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
   const PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5};
   GaussianCloud one, two;
-  ForkJoin t1(1), t2(2);
+  rt::WorkerTeam t1(1), t2(2);
   FramePreprocessor::Setting s;
-  FramePreprocessor(cam, s, t1).process(depth, io::ImageU8{}, one);
-  FramePreprocessor(cam, s, t2).process(depth, io::ImageU8{}, two);
+  FramePreprocessor(cam, s, t1).process(depth, ImageU8{}, one);
+  FramePreprocessor(cam, s, t2).process(depth, ImageU8{}, two);
   ASSERT_EQ(one.size(), two.size());
   for (std::size_t i = 0; i < one.size(); ++i) {
     ASSERT_EQ(one.cov_m2[i], two.cov_m2[i]);
@@ -191,16 +189,15 @@ TEST(FramePreprocessor, ImageGridResultIsTheSameForOneAndTwoThreads) {
 // Correspondence search through the image (CloudTarget with a grid) against the kd-tree alone,
 // for queries near the surfaces, off them, projecting outside the image, and behind the camera.
 TEST(OrganizedKnn, NearestEqualsTheKdTreesForAnyQuery) {
-  const io::ImageF32 depth =
-      io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
+  const ImageF32 depth = io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
   const PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5};
-  ForkJoin team(1);
+  rt::WorkerTeam team(1);
   FramePreprocessor::Setting s;
   FramePreprocessor pre(cam, s, team);
   GaussianCloud cloud;
   KdTree tree;
   PixelGrid grid;
-  pre.process(depth, io::ImageU8{}, cloud, tree, &grid);
+  pre.process(depth, ImageU8{}, cloud, tree, &grid);
   ASSERT_TRUE(grid.describes(cloud.size()));
   const CloudTarget by_image{&cloud, &tree, &grid};
   const CloudTarget by_tree{&cloud, &tree, nullptr};
@@ -239,14 +236,13 @@ TEST(OrganizedKnn, NearestEqualsTheKdTreesForAnyQuery) {
 }
 
 TEST(DepthToPoints, VoxelGridClearsThePixelGrid) {
-  const io::ImageF32 depth =
-      io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
+  const ImageF32 depth = io::read_depth_m(kData + "/icl_nuim_livingroom1/depth_00000.png", 0.001);
   const PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5};
   DepthToPoints::Setting s;
   s.voxel_size_m = 0.05;
   GaussianCloud cloud;
   PixelGrid grid;
-  DepthToPoints(cam, s).convert(depth, io::ImageU8{}, cloud, &grid);
+  DepthToPoints(cam, s).convert(depth, ImageU8{}, cloud, &grid);
   EXPECT_FALSE(grid.describes(cloud.size()));
 }
 

@@ -33,8 +33,8 @@ std::vector<geometry::Pose> icl_poses() {
 }
 
 struct IclFrame {
-  io::ImageF32 depth;
-  io::ImageU8 rgb;
+  ImageF32 depth;
+  ImageU8 rgb;
 };
 
 const std::vector<IclFrame>& icl_frames() {
@@ -95,14 +95,14 @@ INSTANTIATE_TEST_SUITE_P(Modes, TrackerModes,
 
 TEST(Tracker, SingleWallIsReportedDegenerateAndTheImuPoseIsKept) {
   const PinholeCamera cam{160, 120, 100.0, 100.0, 79.5, 59.5};
-  const io::ImageF32 wall(160, 120, 1, 2.0f);  // a flat wall 2 m ahead
+  const ImageF32 wall(160, 120, 1, 2.0f);  // a flat wall 2 m ahead
   Tracker::Setting s = tracker_setting(config::TrackingSettings{});
   s.preprocess.depth.pixel_stride = 2;
   Tracker tracker(cam, s);
-  tracker.track(0, wall, io::ImageU8{});
+  tracker.track(0, wall, ImageU8{});
   const geometry::Pose imu =
       geometry::make_pose(Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(0.05, 0.0, 0.0));
-  const TrackingOutput out = tracker.track(50'000'000, wall, io::ImageU8{}, &imu);
+  const TrackingOutput out = tracker.track(50'000'000, wall, ImageU8{}, &imu);
   EXPECT_EQ(out.gicp.verdict, GicpVerdict::degenerate) << out.gicp.eigen_ratio;
   EXPECT_EQ(out.status, TrackingStatus::lost_degenerate);
   EXPECT_FALSE(out.pose_from_gicp);
@@ -112,10 +112,10 @@ TEST(Tracker, SingleWallIsReportedDegenerateAndTheImuPoseIsKept) {
 
 TEST(Tracker, ImuModeWithoutImuFallsBackToConstantVelocityAndSaysSo) {
   const PinholeCamera cam{160, 120, 100.0, 100.0, 79.5, 59.5};
-  const io::ImageF32 wall(160, 120, 1, 2.0f);
+  const ImageF32 wall(160, 120, 1, 2.0f);
   Tracker tracker(cam, tracker_setting(config::TrackingSettings{}));
-  tracker.track(0, wall, io::ImageU8{});
-  const TrackingOutput out = tracker.track(50'000'000, wall, io::ImageU8{}, nullptr);
+  tracker.track(0, wall, ImageU8{});
+  const TrackingOutput out = tracker.track(50'000'000, wall, ImageU8{}, nullptr);
   EXPECT_TRUE(out.guess_fell_back);
 }
 

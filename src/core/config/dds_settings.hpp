@@ -13,7 +13,14 @@ struct DdsSettings {
   std::string interface_ip = "127.0.0.1";  ///< UDP interface whitelist
   bool shared_memory = true;
   std::string topic_prefix = "rt/vigs";
-  std::string qos_profiles = "firmware_config/dds/qos_profiles.xml";
+  std::string qos_profiles = "../dds/qos_profiles.xml";
+  std::string initial_peers;  ///< empty: 127.0.0.1 on loopback, multicast discovery otherwise
+  std::string map_frame_id = "map";
+  std::string camera_frame_id = "camera";
+  std::string pose_qos_profile = "vigs_pose_writer";
+  std::string keyframe_qos_profile = "vigs_keyframe_writer";
+  std::string status_qos_profile = "vigs_status_writer";
+  std::string reader_qos_profile = "vigs_reader";
 
   void visit(Visitor& v) {
     v.field("enabled", enabled, "publish poses and status on DDS");
@@ -22,7 +29,15 @@ struct DdsSettings {
             "IPv4 address of the only interface UDP may use (127.0.0.1 = loopback only)");
     v.field("shared_memory", shared_memory, "also enable the shared-memory transport");
     v.field("topic_prefix", topic_prefix, {}, "ROS 2 style topic prefix");
-    v.field("qos_profiles", qos_profiles, {}, "QoS XML, relative to the project root");
+    v.field("qos_profiles", qos_profiles, {}, "Fast DDS QoS XML, relative to this config file");
+    v.field("initial_peers", initial_peers, {},
+            "comma-separated IPv4 discovery peers (empty: 127.0.0.1 on loopback, else multicast)");
+    v.field("map_frame_id", map_frame_id, {}, "world frame of poses, odometry and TF");
+    v.field("camera_frame_id", camera_frame_id, {}, "camera frame: TF child, odometry child");
+    v.field("pose_qos_profile", pose_qos_profile, {}, "writer profile: pose, odom, tf");
+    v.field("keyframe_qos_profile", keyframe_qos_profile, {}, "writer profile: keyframe");
+    v.field("status_qos_profile", status_qos_profile, {}, "writer profile: status");
+    v.field("reader_qos_profile", reader_qos_profile, {}, "reader profile of vigs echo/tools");
     v.require(!interface_ip.empty(), "interface_ip", "must name an interface address");
   }
 };

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace vigs::io {
+namespace vigs {
 
 /// Interleaved image: `channels` values per pixel, rows top to bottom, no padding.
 template <class T>
@@ -29,4 +29,4 @@ using ImageU8 = Image<std::uint8_t>;
 using ImageU16 = Image<std::uint16_t>;
 using ImageF32 = Image<float>;
 
-}  // namespace vigs::io
+}  // namespace vigs
