@@ -1,6 +1,7 @@
 #include "drivers/serial_imu/euroc_imu_csv.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 #include <string_view>
@@ -52,6 +53,11 @@ std::vector<ImuCsvRow> read_euroc_imu_csv(const std::string& path) {
       ok = ok && parse(cells[1 + k], r.gyro_rps[k]) && parse(cells[4 + k], r.accel_mps2[k]);
     }
     if (!ok) throw std::runtime_error(where + "malformed number");
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(r.gyro_rps[k]) || !std::isfinite(r.accel_mps2[k]))
+        throw std::runtime_error(where + "value is not finite (w xyz, a xyz must be numbers)");
+    }
+    r.line = line_no;
     if (!rows.empty() && r.t_ns <= rows.back().t_ns) {
       throw std::runtime_error(where + "timestamp does not increase");
     }

@@ -12,10 +12,12 @@ struct ImuCsvRow {
   std::int64_t t_ns = 0;
   double gyro_rps[3] = {};
   double accel_mps2[3] = {};
+  int line = 0;  ///< 1-based line in the file
 };
 
 /// All rows of `path`. Throws std::runtime_error naming the file and line for an unreadable file,
-/// a malformed number, a wrong column count or a timestamp that does not increase.
+/// a malformed number, a value that is not finite (nan, inf), a wrong column count or a
+/// timestamp that does not increase.
 [[nodiscard]] std::vector<ImuCsvRow> read_euroc_imu_csv(const std::string& path);
 
 }  // namespace vigs::drivers

@@ -23,6 +23,7 @@ struct ParserCounters {
   rt::SingleWriterCounter malformed_payload;     ///< valid checksum, but fields overrun the payload
   rt::SingleWriterCounter incomplete_sample;     ///< valid message lacking time, accel or gyro
   rt::SingleWriterCounter unsupported_format;    ///< known field in a precision we do not decode
+  rt::SingleWriterCounter non_finite_sample;     ///< valid message with a NaN/Inf value: dropped
 };
 
 }  // namespace vigs::drivers

@@ -27,6 +27,7 @@ constexpr Field kFields[] = {
     {"malformed_payload", &SerialImuFaults::malformed_payload},
     {"incomplete_sample", &SerialImuFaults::incomplete_sample},
     {"unsupported_format", &SerialImuFaults::unsupported_format},
+    {"non_finite_sample", &SerialImuFaults::non_finite_sample},
     {"other_messages", &SerialImuFaults::other_messages},
     {"clock_resets", &SerialImuFaults::clock_resets},
     {"read_errors", &SerialImuFaults::read_errors},
@@ -66,6 +67,7 @@ void SerialImuFaults::fill(const ParserCounters& c) noexcept {
   malformed_payload = c.malformed_payload.get();
   incomplete_sample = c.incomplete_sample.get();
   unsupported_format = c.unsupported_format.get();
+  non_finite_sample = c.non_finite_sample.get();
   other_messages = c.other_messages.get();
 }
 

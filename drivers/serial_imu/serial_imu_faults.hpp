@@ -29,7 +29,8 @@ struct SerialImuFaults {
   std::uint64_t malformed_payload = 0;
   std::uint64_t incomplete_sample = 0;
   std::uint64_t unsupported_format = 0;
-  std::uint64_t other_messages = 0;  ///< valid messages of other kinds (not a fault)
+  std::uint64_t non_finite_sample = 0;  ///< NaN/Inf accel or gyro: sample dropped
+  std::uint64_t other_messages = 0;     ///< valid messages of other kinds (not a fault)
   std::uint64_t clock_resets = 0;
   std::uint64_t read_errors = 0;          ///< read()/poll() errors other than EAGAIN/EINTR
   std::uint64_t hangups = 0;              ///< port hung up (device unplugged, pty master closed)

@@ -3,6 +3,7 @@
 #include "drivers/serial_imu/parser_factory.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "drivers/serial_imu/byte_order.hpp"
@@ -137,6 +138,13 @@ void XsensMtParser::accept(const std::uint8_t* msg, std::size_t size,
   if (!(has_time && has_accel && has_gyro)) {
     counters_.incomplete_sample.add();
     return;
+  }
+  // A sample that is not finite never leaves the driver: dropped and counted.
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(s.accel_mps2[k]) || !std::isfinite(s.gyro_rps[k])) {
+      counters_.non_finite_sample.add();
+      return;
+    }
   }
   counters_.packets_ok.add();
   sink.on_sample(s);

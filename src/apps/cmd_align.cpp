@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/finite_option.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/image_io.hpp"
 #include "io/json_text.hpp"
@@ -160,8 +161,10 @@ void add_align_command(CLI::App& app, ExitCode& exit_code) {
       ->expected(2);
   cmd->add_option("--depth-scale", o.depth_scale,
                   "16-bit depth units per metre (1000 = millimetres); float TIFF is metres")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--init", o.init, "initial T_target_source as x,y,z,qx,qy,qz,qw")->delimiter(',');
+      ->check(kFiniteNumber & CLI::PositiveNumber);
+  cmd->add_option("--init", o.init, "initial T_target_source as x,y,z,qx,qy,qz,qw")
+      ->delimiter(',')
+      ->check(kFiniteNumber);
   cmd->add_option("--config", o.config_file, "robot YAML whose tracking: section to use")
       ->check(CLI::ExistingFile);
   cmd->add_option("--stride", o.pixel_stride, "pixel stride (overrides the config)")

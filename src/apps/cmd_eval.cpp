@@ -6,6 +6,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/eval_group.hpp"
+#include "apps/finite_option.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
@@ -14,6 +15,9 @@
 #include "eval/report.hpp"
 #include "eval/rpe.hpp"
 #include "eval/trajectory_file.hpp"
+#include "io/json_text.hpp"
+#include "io/mcap/damage_object.hpp"
+#include "io/output_guard.hpp"
 #include "sim/simulator.hpp"
 
 namespace vigs::apps {
@@ -47,6 +51,23 @@ eval::Trajectory load_gt(const EvalArgs& a) {
   return gt;
 }
 
+/// The tool's JSON object with "input_damage": {"gt", "est"} added (null each when intact), and
+/// a warning on stderr for each damaged recording: damage is never silent.
+std::string with_input_damage(std::string json, const eval::Trajectory& gt,
+                              const eval::Trajectory& est) {
+  for (const eval::Trajectory* t : {&gt, &est}) {
+    if (t->damage.damaged())
+      std::cerr << "vigs eval: " << io::mcap::damage_warning(t->damage, eval::poses_used(*t))
+                << "\n";
+  }
+  if (json.empty() || json.back() != '}') return json;
+  json.pop_back();
+  return json + ", \"input_damage\": " +
+         io::json_line({{"gt", io::mcap::damage_object(gt.damage, eval::poses_used(gt))},
+                        {"est", io::mcap::damage_object(est.damage, eval::poses_used(est))}}) +
+         "}";
+}
+
 /// Runs `body`, turning input errors into a message on stderr and exit code 1.
 template <class Body>
 void guarded(ExitCode& exit_code, Body&& body) {
@@ -68,7 +89,7 @@ void add_trajectory_options(CLI::App* c, EvalArgs& a) {
   c->add_option("--gt", a.gt, "ground truth: TUM or KITTI file, or a .mcap recording")->required();
   c->add_option("--est", a.est, "estimate: TUM or KITTI file")->required();
   c->add_option("--max-dt", a.max_dt_s, "association window, s (TUM: 0.02)")
-      ->check(CLI::PositiveNumber);
+      ->check(kFiniteNumber & CLI::PositiveNumber);
   c->add_option("--topic", a.topic, "PoseStamped topic when --gt is a .mcap file");
   c->add_flag("--gt-to-camera", a.gt_to_camera,
               "compare camera poses: ground truth T_w_b becomes T_w_b T_b_c (T_b_c from --config)");
@@ -94,14 +115,15 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       opt.max_dt_s = a.max_dt_s;
       const auto gt = load_gt(a);
       const auto est = eval::load_any_trajectory(a.est, a.topic);
-      std::cout << eval::ate_json(eval::compute_ate(gt, est, opt), opt) << "\n";
+      std::cout << with_input_damage(eval::ate_json(eval::compute_ate(gt, est, opt), opt), gt, est)
+                << "\n";
     });
   });
 
   auto* rpe = group->add_subcommand("rpe", "Relative pose error over a delta, as JSON");
   add_trajectory_options(rpe, a);
   rpe->add_option("--delta", a.delta, "pose distance: frames (whole number), metres or seconds")
-      ->check(CLI::PositiveNumber);
+      ->check(kFiniteNumber & CLI::PositiveNumber);
   rpe->add_option("--delta-unit", a.delta_unit, "frames | m | s")
       ->check(CLI::IsMember({"frames", "m", "s"}));
   rpe->add_option("--align", a.align, "none (or se3: same result) | sim3 (scale only)")
@@ -117,7 +139,8 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       opt.align = a.align == "sim3" ? eval::Alignment::kSim3 : eval::Alignment::kNone;
       const auto gt = load_gt(a);
       const auto est = eval::load_any_trajectory(a.est, a.topic);
-      std::cout << eval::rpe_json(eval::compute_rpe(gt, est, opt), opt) << "\n";
+      std::cout << with_input_damage(eval::rpe_json(eval::compute_rpe(gt, est, opt), opt), gt, est)
+                << "\n";
     });
   });
 
@@ -141,7 +164,8 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::ExistingFile);
   run->add_option("--align", a.align, "se3 | sim3 | none")
       ->check(CLI::IsMember({"se3", "sim3", "none"}));
-  run->add_option("--max-dt", a.max_dt_s, "association window, s")->check(CLI::PositiveNumber);
+  run->add_option("--max-dt", a.max_dt_s, "association window, s")
+      ->check(kFiniteNumber & CLI::PositiveNumber);
   run->add_flag("--no-plots", a.no_plots, "skip the gnuplot PNGs");
   run->add_flag("--no-render", a.no_render, "skip PSNR/SSIM and the rendered views");
   run->add_option("--every", a.every, "frame stride of the PSNR/SSIM sets")
@@ -149,13 +173,14 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       ->capture_default_str();
   run->add_option("--keyframe-tol", a.keyframe_tol_s,
                   "a frame this close (s) to a keyframes.txt stamp is that keyframe")
-      ->check(CLI::PositiveNumber)
+      ->check(kFiniteNumber & CLI::PositiveNumber)
       ->capture_default_str();
   run->add_option("--threads", a.threads, "rasterizer threads")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   run->callback([&exit_code] {
     guarded(exit_code, [] {
+      io::refuse_output_over_inputs(a.results_dir + "/report.md", {a.gt, a.config_file});
       const auto cfg = load_robot(a.config_file);
       eval::ReportOptions opt;
       opt.results_dir = a.results_dir;

@@ -9,6 +9,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/eval_group.hpp"
+#include "apps/finite_option.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
@@ -92,6 +93,7 @@ void add_eval_imu_command(CLI::App& app, ExitCode& exit_code) {
                   "IMU frame in a z-up world)")
       ->required();
   imu->add_option("--window", args.window_s, "window length, s")
+      ->check(kFiniteNumber)
       ->check(CLI::Range(1e-3, 3600.0))
       ->capture_default_str();
   imu->add_option("--bias", args.bias, "biases: gt (ground truth at each window start) or zero")

@@ -6,6 +6,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/finite_option.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "drivers/serial_imu/euroc_imu_csv.hpp"
@@ -109,11 +111,25 @@ int run_listen(const ListenOptions& o) {
 struct PlayOptions {
   std::string csv;
   double delay_s = 1.0;
+  double max_gap_s = 1.0;
   std::uint32_t stf0 = 0;
 };
 
 int run_play(const PlayOptions& o) {
   const auto rows = drivers::read_euroc_imu_csv(o.csv);
+  // Playback sleeps through every stamp gap, so a gap is bounded before anything is played: a
+  // CSV with a one-hour hole is an error naming the line, not an hour-long sleep.
+  std::int64_t widest_ns = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const std::int64_t gap_ns = rows[i].t_ns - rows[i - 1].t_ns;
+    widest_ns = std::max(widest_ns, gap_ns);
+    if (static_cast<double>(gap_ns) * 1e-9 > o.max_gap_s) {
+      throw std::runtime_error(o.csv + ":" + std::to_string(rows[i].line) + ": stamp gap of " +
+                               std::to_string(static_cast<double>(gap_ns) * 1e-9) +
+                               " s after the previous sample exceeds --max-gap " +
+                               io::json_line(io::Json(o.max_gap_s)) + " s");
+    }
+  }
   const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
   if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0) {
     throw std::system_error(errno, std::generic_category(), "posix_openpt");
@@ -130,7 +146,8 @@ int run_play(const PlayOptions& o) {
   std::cout << io::json_line({{"pty", slave},
                               {"samples", rows.size()},
                               {"duration_s",
-                               io::rounded(rt::ns_to_s(rows.back().t_ns - rows.front().t_ns), 6)}})
+                               io::rounded(rt::ns_to_s(rows.back().t_ns - rows.front().t_ns), 6)},
+                              {"max_gap_s", io::rounded(rt::ns_to_s(widest_ns), 6)}})
             << std::endl;
 
   const std::int64_t start_ns = rt::monotonic_ns() + rt::s_to_ns(o.delay_s);
@@ -177,7 +194,8 @@ void add_imu_command(CLI::App& app, ExitCode& exit_code) {
   l->add_option("--baud", listen.baud, "bit/s (default: imu.baud); non-standard rates use BOTHER")
       ->check(CLI::Range(1, 4'000'000));
   l->add_option("--protocol", listen.protocol, "wire protocol (default: imu.protocol)");
-  l->add_option("--seconds", listen.seconds, "how long to listen")->check(CLI::Range(0.1, 3600.0));
+  l->add_option("--seconds", listen.seconds, "how long to listen")
+      ->check(kFiniteNumber & CLI::Range(0.1, 3600.0));
   l->callback([&exit_code] {
     try {
       exit_code.value = run_listen(listen);
@@ -196,8 +214,12 @@ void add_imu_command(CLI::App& app, ExitCode& exit_code) {
       ->required()
       ->check(CLI::ExistingFile);
   p->add_option("--delay", play.delay_s, "seconds to wait before the first sample")
-      ->check(CLI::Range(0.0, 60.0));
+      ->check(kFiniteNumber & CLI::Range(0.0, 60.0));
   p->add_option("--stf0", play.stf0, "first SampleTimeFine value (10 kHz ticks)");
+  p->add_option("--max-gap", play.max_gap_s,
+                "largest stamp gap allowed between samples, s; a wider one is an error")
+      ->check(kFiniteNumber & CLI::Range(1e-6, 3600.0))
+      ->capture_default_str();
   p->callback([&exit_code] {
     try {
       exit_code.value = run_play(play);

@@ -13,6 +13,7 @@
 #include "core/config/yaml_loader.hpp"
 #include "io/image_io.hpp"
 #include "io/json_text.hpp"
+#include "io/output_guard.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/ply_io.hpp"
@@ -52,9 +53,15 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
   cmd->callback([&exit_code] {
     try {
       const auto t0 = std::chrono::steady_clock::now();
+      const auto list = read_frame_list(frames_path);
+      std::vector<std::string> inputs = {camera_path, frames_path};
+      for (const auto& f : list) {
+        inputs.push_back(f.color_path);
+        inputs.push_back(f.depth_path);
+      }
+      io::refuse_output_over_inputs(out_path, inputs);
       const auto cfg = config::load_config_file(camera_path);
       const PinholeCamera k = PinholeCamera::from_settings(cfg.camera);
-      const auto list = read_frame_list(frames_path);
       mapping::GaussianMap map;
       mapping::GaussianInserter inserter(mapping::InsertSettings{
           cfg.mapping.insert_voxel_m, cfg.mapping.insert_opacity, cfg.mapping.min_scale_m});
@@ -72,8 +79,18 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
                                    std::to_string(k.width_px) + "x" + std::to_string(k.height_px));
         if (depth.width != rgb.width || depth.height != rgb.height)
           throw std::runtime_error(list[i].depth_path + ": depth size differs from colour");
-        for (auto& z : depth.data)
-          if (z < cfg.camera.min_depth_m || z > cfg.camera.max_depth_m) z = 0.0f;
+        std::size_t valid = 0;
+        for (auto& z : depth.data) {
+          if (!(z >= cfg.camera.min_depth_m && z <= cfg.camera.max_depth_m)) z = 0.0f;
+          valid += z > 0.0f;
+        }
+        // A frame with no usable depth would silently give no Gaussians (NaN, Inf, 0 or
+        // out-of-range everywhere): an error naming the file, not an empty map.
+        if (valid == 0)
+          throw std::runtime_error(list[i].depth_path + ": no depth pixel in [" +
+                                   std::to_string(cfg.camera.min_depth_m) + ", " +
+                                   std::to_string(cfg.camera.max_depth_m) +
+                                   "] m (all 0, NaN, Inf or out of range)");
         inserter.insert(map, mapping::keyframe_from_rgbd(k, rgb, depth, list[i].T_w_c, sampling));
         LoadedFrame& f = frames[i];
         f.rgb.resize(rgb.data.size());
@@ -82,6 +99,9 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
         f.view = {mapping::RenderCamera::from(k, list[i].T_w_c), f.rgb.data(), f.depth_m.data()};
       }
       const std::size_t inserted = map.size();
+      if (inserted == 0)
+        throw std::runtime_error(frames_path + ": the frames inserted no Gaussian (stride " +
+                                 std::to_string(stride) + ")");
       vigs::rt::WorkerTeam pool(cfg.mapping.threads, vigs::rt::ThreadSpec{.name = "mapper_w1"});
       mapping::MapOptimizer opt(cfg.mapping, &pool);
       std::vector<std::size_t> order(frames.size());

@@ -12,6 +12,7 @@
 #include "apps/commands.hpp"
 #include "io/io_error.hpp"
 #include "io/json_text.hpp"
+#include "io/mcap/damage_object.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/oni/mcap_to_oni.hpp"
 #include "io/ros_msgs/camera_info.hpp"
@@ -154,12 +155,17 @@ void add_mcap_command(CLI::App& app, ExitCode& exit_code) {
   oni->callback([&exit_code] {
     try {
       const auto r = io::oni::make_oni_from_mcap(in, out, oni_options);
+      const std::string used = std::to_string(r.frames) + " frame pairs up to stamp " +
+                               std::to_string(r.last_stamp_ns) + " ns";
+      if (r.damage.damaged())
+        std::cerr << "vigs mcap oni: " << io::mcap::damage_warning(r.damage, used) << "\n";
       std::cout << io::json_line({{"oni", out},
                                   {"frames", r.frames},
                                   {"unmatched", r.unmatched},
                                   {"fps", io::rounded(r.fps, 6)},
                                   {"width", r.width},
-                                  {"height", r.height}})
+                                  {"height", r.height},
+                                  {"input_damage", io::mcap::damage_object(r.damage, used)}})
                 << "\n";
     } catch (const io::IoError& e) {
       std::cerr << e.what() << "\n";

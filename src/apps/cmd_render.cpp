@@ -10,6 +10,7 @@
 #include "core/config/yaml_loader.hpp"
 #include "io/image_io.hpp"
 #include "io/json_text.hpp"
+#include "io/output_guard.hpp"
 #include "mapping/ply_io.hpp"
 #include "mapping/rasterizer.hpp"
 
@@ -39,6 +40,11 @@ void add_render_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--threads", threads, "rasterizer threads")->check(CLI::Range(1, 64));
   cmd->callback([&exit_code] {
     try {
+      if (depth_path.empty()) depth_path = default_depth_path(out_path);
+      if (depth_path == out_path)
+        throw std::runtime_error(out_path + ": --out and --depth-out are the same file");
+      for (const std::string* out : {&out_path, &depth_path})
+        io::refuse_output_over_inputs(*out, {map_path, camera_path});
       const auto cfg = config::load_config_file(camera_path);
       const PinholeCamera k = PinholeCamera::from_settings(cfg.camera);
       const Eigen::Isometry3d T_w_c = parse_pose_text(pose_text);
@@ -58,7 +64,6 @@ void add_render_command(CLI::App& app, ExitCode& exit_code) {
         const double z = a >= 0.5 ? r.depth[p] / a : 0.0;
         depth.data[p] = static_cast<std::uint16_t>(std::clamp(std::lround(z / scale), 0L, 65535L));
       }
-      if (depth_path.empty()) depth_path = default_depth_path(out_path);
       io::write_png(out_path, color);
       io::write_png_u16(depth_path, depth);
       io::Json j;

@@ -13,6 +13,8 @@
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/json_text.hpp"
+#include "io/mcap/damage_object.hpp"
+#include "io/output_guard.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/results_writer.hpp"
 
@@ -23,8 +25,16 @@ struct ReplayArgs {
   std::string recording, out, config_file, guess, fusion, initial_pose = "gravity";
   std::int64_t frames = 0;
   int map_iterations = 0;
-  bool quiet = false;
+  bool quiet = false, allow_truncated = false;
 };
+
+/// What a replay of a damaged recording used, for stderr and stats.json.
+std::string used_of(const pipeline::ReplayResult& r) {
+  return std::to_string(r.frames.size()) + " frames" +
+         (r.frames.empty() ? std::string()
+                           : " up to t = " + std::to_string(r.frames.back().t_ns * 1e-9) + " s") +
+         " and " + std::to_string(r.imu_samples) + " IMU samples";
+}
 
 /// stats.json: the keys pipeline::RunStats reads plus the replay's own counters. Rates over no
 /// frames or no wall time are not defined and written as null.
@@ -69,6 +79,7 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   s["imu_samples"] = r.imu_samples;
   s["imu_samples_fed"] = r.imu_samples_fed;
   s["frames_without_depth"] = r.frames_without_depth;
+  s["input_damage"] = io::mcap::damage_object(r.damage, used_of(r));
   if (r.map) {
     s["gaussians"] = r.map->size();
     s["map_iterations"] = r.map_iterations;
@@ -109,9 +120,13 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--map-iterations", a.map_iterations,
                   "build map.ply: mapper iterations after every frame (0 = no map)")
       ->check(CLI::Range(0, 1000));
+  cmd->add_flag("--allow-truncated", a.allow_truncated,
+                "replay the intact part of a damaged (truncated, corrupt) recording instead of "
+                "refusing it; stderr and stats.json input_damage say what was used");
   cmd->add_flag("--quiet", a.quiet, "no progress on stderr");
   cmd->callback([&exit_code] {
     try {
+      io::refuse_output_dir_over_inputs(a.out, {a.recording, a.config_file});
       const config::RobotConfig cfg =
           a.config_file.empty() ? config::load_config_text(config::default_config_text(),
                                                            std::string(config::kDefaultConfigName))
@@ -128,6 +143,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                              ? pipeline::InitialPoseSource::ground_truth
                              : pipeline::InitialPoseSource::gravity;
       opt.map_iterations_per_frame = a.map_iterations;
+      opt.allow_damaged = a.allow_truncated;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;
         if (++n % 100 == 0)
@@ -137,6 +153,8 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       const pipeline::ReplayResult r =
           a.quiet ? pipeline::replay_recording(a.recording, cfg, opt)
                   : pipeline::replay_recording(a.recording, cfg, opt, progress);
+      if (r.damage.damaged())
+        std::cerr << "vigs replay: " << io::mcap::damage_warning(r.damage, used_of(r)) << "\n";
       const io::Json stats = stats_json(r, a.recording);
       pipeline::write_results_dir(a.out, r, io::json_lines(stats) + "\n");
       std::printf("%s\n", io::json_line({{"out", a.out}, {"stats", stats}}).c_str());

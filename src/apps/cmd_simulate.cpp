@@ -1,17 +1,22 @@
 // `vigs simulate`: writes a synthetic uHumans-like RGB-D + IMU + ground-truth recording (MCAP).
+#include <signal.h>
 #include <sys/resource.h>
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string>
 
 #include "apps/commands.hpp"
+#include "apps/finite_option.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "io/io_error.hpp"
 #include "io/json_text.hpp"
+#include "io/output_guard.hpp"
 #include "sim/mcap_sink.hpp"
 #include "sim/simulator.hpp"
 
@@ -23,6 +28,41 @@ struct SimulateArgs {
   std::optional<int> humans, seed, threads;
   std::optional<double> seconds;
   bool gray = false, quiet = false;
+};
+
+// SIGINT/SIGTERM end the run after the frame being written, so the recording is closed with
+// its summary and index under the final name. The handler only stores to lock-free atomics
+// (async-signal-safe); SA_RESETHAND makes a second signal act as the default (terminate).
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free);
+
+extern "C" void on_stop_signal(int signo) {
+  g_signal.store(signo, std::memory_order_relaxed);
+  g_stop.store(true, std::memory_order_relaxed);
+}
+
+/// Installs the handler for SIGINT and SIGTERM for its lifetime, then restores the old ones.
+class StopSignals {
+ public:
+  StopSignals() {
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND | SA_RESTART;  // no EINTR in the writer
+    ::sigaction(SIGINT, &sa, &old_int_);
+    ::sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    ::sigaction(SIGINT, &old_int_, nullptr);
+    ::sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {
+  }, old_term_{};
 };
 
 }  // namespace
@@ -40,7 +80,7 @@ void add_simulate_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--humans", a.humans, "walking people (uHumans: 0, 12, 24, 60)")
       ->check(CLI::Range(0, 500));
   cmd->add_option("--seconds", a.seconds, "sequence length, s; 0 = the whole route")
-      ->check(CLI::Range(0.0, 36000.0));
+      ->check(kFiniteNumber & CLI::Range(0.0, 36000.0));
   cmd->add_option("--seed", a.seed, "random seed: layout, people, noise")
       ->check(CLI::Range(0, 2147483647));
   cmd->add_flag("--gray", a.gray, "mono8 images (as uHumansV1) instead of rgb8");
@@ -65,6 +105,8 @@ void add_simulate_command(CLI::App& app, ExitCode& exit_code) {
       if (!a.depth_encoding.empty()) cfg.sim.depth_encoding = a.depth_encoding;
       if (a.threads) cfg.sim.render_threads = *a.threads;
 
+      io::refuse_output_over_inputs(a.out, {a.config_file});
+      io::refuse_output_over_inputs(a.out + ".partial", {a.config_file});
       sim::Simulator simulator(cfg);
       sim::McapSinkOptions opt;
       opt.depth_encoding = cfg.sim.depth_encoding;
@@ -72,15 +114,30 @@ void add_simulate_command(CLI::App& app, ExitCode& exit_code) {
       opt.imu = cfg.imu;
       sim::McapSink sink(a.out, opt);
       int last_report = -1;
-      const auto stats = simulator.run(sink, [&](double t, double total) {
-        if (a.quiet) return;
-        const int step = static_cast<int>(t / 10.0);
-        if (step != last_report) {
-          last_report = step;
-          std::fprintf(stderr, "vigs simulate: %.0f / %.0f s\n", t, total);
-        }
-      });
-      sink.close();
+      sim::SimStats stats;
+      {
+        const StopSignals signals;
+        stats = simulator.run(
+            sink,
+            [&](double t, double total) {
+              if (a.quiet) return;
+              const int step = static_cast<int>(t / 10.0);
+              if (step != last_report) {
+                last_report = step;
+                std::fprintf(stderr, "vigs simulate: %.0f / %.0f s\n", t, total);
+              }
+            },
+            &g_stop);
+        sink.close();
+      }
+      if (stats.stopped) {
+        std::fprintf(stderr,
+                     "vigs simulate: stopped by %s after %lld frames (%.3f s); %s is complete "
+                     "up to there\n",
+                     g_signal.load() == SIGINT ? "SIGINT" : "SIGTERM",
+                     static_cast<long long>(stats.frames), stats.sequence_s, a.out.c_str());
+        exit_code.value = 1;
+      }
       rusage ru{};
       getrusage(RUSAGE_SELF, &ru);
       const double cpu_s = static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
@@ -102,6 +159,9 @@ void add_simulate_command(CLI::App& app, ExitCode& exit_code) {
       j["cpu_s"] = io::fixed(cpu_s, 3);
       j["messages"] = sink.stats().message_count;
       j["bytes"] = sink.stats().bytes_written;
+      j["stopped_by_signal"] = stats.stopped
+                                   ? io::Json(g_signal.load() == SIGINT ? "SIGINT" : "SIGTERM")
+                                   : io::Json(nullptr);
       std::printf("%s\n", io::json_line(j).c_str());
     } catch (const config::ConfigError& e) {
       std::cerr << "vigs simulate: " << e.what() << "\n";

@@ -1,5 +1,6 @@
 #include "apps/frame_list.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -7,6 +8,9 @@
 namespace vigs::apps {
 
 Eigen::Isometry3d pose_from_tum(const double v[7]) {
+  for (int i = 0; i < 7; ++i)
+    if (!std::isfinite(v[i]))
+      throw std::runtime_error("pose number " + std::to_string(i + 1) + " is not finite");
   Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
   if (q.norm() < 1e-6) throw std::runtime_error("pose quaternion has zero length");
   q.normalize();
@@ -44,7 +48,7 @@ std::vector<PosedFrame> read_frame_list(const std::string& path) {
     std::istringstream ss(line);
     PosedFrame fr;
     double v[7];
-    if (!(ss >> fr.t_s >> fr.color_path >> fr.depth_path))
+    if (!(ss >> fr.t_s >> fr.color_path >> fr.depth_path) || !std::isfinite(fr.t_s))
       throw std::runtime_error(path + ":" + std::to_string(line_no) +
                                ": expected 'timestamp colour depth tx ty tz qx qy qz qw'");
     for (double& x : v)

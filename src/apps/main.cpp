@@ -1,7 +1,28 @@
 // vigs: the one VIGS binary. Subcommands are registered in commands.hpp.
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
 
 #include "apps/commands.hpp"
+
+namespace {
+
+/// Failed writes are errors: a report lost to a full disk or /dev/full must not exit 0. Every
+/// command prints through stdout (std::cout is synced with it), so one check covers them all.
+int checked_exit(int code) {
+  errno = 0;
+  std::cout.flush();
+  if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::fprintf(stderr, "vigs: cannot write standard output: %s\n",
+                 errno != 0 ? std::strerror(errno) : "write error");
+    return 1;
+  }
+  return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -27,6 +48,12 @@ int main(int argc, char** argv) {
   vigs::apps::add_echo_command(app, exit_code);
   vigs::apps::add_topics_command(app, exit_code);
 
-  CLI11_PARSE(app, argc, argv);
-  return exit_code.value;
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; every bad flag or value (including a non-finite number)
+    // is a usage error with exit code 1, as every other input error.
+    return checked_exit(app.exit(e) == 0 ? 0 : 1);
+  }
+  return checked_exit(exit_code.value);
 }

@@ -1,8 +1,10 @@
 #include "eval/mcap_trajectory.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "eval/trajectory_file.hpp"
+#include "io/finite_check.hpp"
 #include "io/io_error.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
@@ -28,10 +30,19 @@ Trajectory load_mcap_trajectory(const std::string& path, const std::string& topi
       }
       const auto& p = msg.pose.position;
       const auto& q = msg.pose.orientation;
+      const double v[7] = {p.x, p.y, p.z, q.x, q.y, q.z, q.w};
+      const std::string record =
+          path + ": topic " + topic + " message at byte " + std::to_string(m.record_offset);
+      io::require_all_finite(record, "pose (position xyz, orientation xyzw)", v, 7);
+      const double norm = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+      if (!(norm > 0.5 && norm < 1.5)) {
+        throw TrajectoryFileError(record + ": orientation is not a unit quaternion (norm " +
+                                  std::to_string(norm) + ")");
+      }
       TimedPose tp;
       tp.t_s = static_cast<double>(msg.header.stamp.to_ns()) * 1e-9;
       tp.T_w_x = geometry::make_pose(Eigen::Vector3d(p.x, p.y, p.z),
-                                     Eigen::Quaterniond(q.w, q.x, q.y, q.z));
+                                     Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized());
       traj.poses.push_back(tp);
     }
     if (traj.poses.empty()) {
@@ -39,6 +50,7 @@ Trajectory load_mcap_trajectory(const std::string& path, const std::string& topi
       if (!reader.issues().empty()) why += " (" + reader.issues().front().message + ")";
       throw TrajectoryFileError(why);
     }
+    traj.damage = io::mcap::damage_of(reader);
   } catch (const io::IoError& e) {
     throw TrajectoryFileError(e.what());
   } catch (const io::ros_msgs::DecodeError& e) {

@@ -182,6 +182,7 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
       q.side_by_side_t_s.push_back(t_s);
     }
   });
+  q.damage = stats.damage;
   q.recorded_frames = stats.frames + stats.without_camera_info;
   q.frames_without_camera_info = stats.without_camera_info;
   if (!q.side_by_side_t_s.empty()) {

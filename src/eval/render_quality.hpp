@@ -55,6 +55,7 @@ struct RenderQuality {
   std::string side_by_side_png;  ///< written file, "" if none
   int side_by_side_width = 0, side_by_side_height = 0;
   std::vector<double> side_by_side_t_s;  ///< stamps shown, top to bottom
+  io::mcap::DamageReport damage;         ///< found in the recording; frames of the intact part
 };
 
 /// `T_w_c` is the estimate as camera poses, sorted by time; `keyframe_t_s` sorted, or null when

@@ -12,6 +12,8 @@
 #include "eval/mcap_trajectory.hpp"
 #include "eval/trajectory_file.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_text.hpp"
+#include "io/mcap/damage_object.hpp"
 #include "mapping/ply_io.hpp"
 
 namespace vigs::eval {
@@ -220,6 +222,11 @@ ReportResult write_report(const ReportOptions& opt) {
   }
   const Trajectory est = load_trajectory_file(est_path);
   ReportResult r;
+  r.input_damage = gt.damage;
+  if (gt.damage.damaged()) {
+    r.input_damage_used = poses_used(gt);
+    r.warnings.push_back(io::mcap::damage_warning(gt.damage, r.input_damage_used));
+  }
   r.ate = compute_ate(gt, est, opt.ate);
   RpeOptions rf;
   rf.max_dt_s = opt.ate.max_dt_s;
@@ -238,6 +245,11 @@ ReportResult write_report(const ReportOptions& opt) {
   std::string map_sections;
   std::vector<std::string> not_measured;
   measure_map_and_run(opt, est, r, map_sections, not_measured);
+  if (r.quality_measured && r.quality.damage.damaged() && !r.input_damage.damaged()) {
+    r.input_damage = r.quality.damage;
+    r.input_damage_used = std::to_string(r.quality.recorded_frames) + " recorded frames";
+    r.warnings.push_back(io::mcap::damage_warning(r.input_damage, r.input_damage_used));
+  }
 
   std::string md = "# VIGS evaluation report\n\n";
   md += "- results: `" + opt.results_dir + "`\n- estimate: `" + est_path + "` (" +
@@ -330,6 +342,7 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
     j["quality"] = nullptr;
   }
   j["gaussians"] = r.gaussians >= 0 ? io::Json(r.gaussians) : io::Json(nullptr);
+  j["input_damage"] = io::mcap::damage_object(r.input_damage, r.input_damage_used);
   j["fps"] = io::finite_or_null(r.run_stats.fps);
   j["peak_rss_bytes"] = io::finite_or_null(r.run_stats.peak_rss_bytes);
   j["lpips"] = nullptr;

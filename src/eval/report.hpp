@@ -46,7 +46,9 @@ struct ReportResult {
   std::vector<double> keyframe_t_s;  ///< from keyframes.txt
   long gaussians = -1;               ///< from map.ply, -1 when not read
   pipeline::RunStats run_stats;
-  std::vector<std::string> missing;  ///< optional RESULTS_DIR files absent
+  std::vector<std::string> missing;     ///< optional RESULTS_DIR files absent
+  io::mcap::DamageReport input_damage;  ///< of the ground-truth recording (also in warnings)
+  std::string input_damage_used;        ///< what of it was used
 };
 
 /// Writes RESULTS_DIR/report.md (atomically) and the plots. Throws TrajectoryFileError or

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/geometry/se3.hpp"
+#include "io/mcap/damage_report.hpp"
 
 namespace vigs::eval {
 
@@ -23,6 +24,16 @@ struct Trajectory {
   std::string source;  ///< file name (for messages)
   TrajectoryFormat format = TrajectoryFormat::kTum;
   std::vector<TimedPose> poses;
+  /// Damage the reader found in a recording (.mcap); `poses` are those of the intact part.
+  io::mcap::DamageReport damage;
 };
+
+/// "N poses up to t = T s": what a tool used of a trajectory, for damage reports.
+inline std::string poses_used(const Trajectory& t) {
+  return std::to_string(t.poses.size()) + " poses" +
+         (t.poses.empty() ? std::string()
+                          : " up to t = " + std::to_string(t.poses.back().t_s) + " s") +
+         " of " + t.source;
+}
 
 }  // namespace vigs::eval

@@ -1,5 +1,7 @@
 #include "mapping/ply_io.hpp"
 
+#include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -92,9 +94,14 @@ GaussianMap read_gaussian_ply(const std::string& path) {
       ss >> name;
       in_vertex = name == "vertex";
       if (in_vertex) {
-        long long n = -1;
-        ss >> n;
-        if (n < 0) throw fail("bad vertex count");
+        // The whole word must be a count: `element vertex abc` is an error, not 0 vertices.
+        std::string word, extra;
+        ss >> word;
+        std::uint64_t n = 0;
+        const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), n);
+        if (word.empty() || ec != std::errc() || end != word.data() + word.size() || (ss >> extra))
+          throw fail("vertex count '" + word + "' is not a non-negative integer");
+        if (seen_vertex) throw fail("a second 'element vertex'");
         count = static_cast<std::size_t>(n);
         seen_vertex = true;
       } else if (seen_vertex) {
@@ -161,7 +168,14 @@ GaussianMap read_gaussian_ply(const std::string& path) {
                      std::to_string(data_start + static_cast<std::streamoff>(i) * stride) +
                      " (vertex " + std::to_string(i) + " of " + std::to_string(count) + ")");
     float v[kNumProps];
-    for (int k = 0; k < kNumProps; ++k) std::memcpy(&v[k], row.data() + offs[k], 4);
+    for (int k = 0; k < kNumProps; ++k) {
+      std::memcpy(&v[k], row.data() + offs[k], 4);
+      if (!std::isfinite(v[k]))
+        throw PlyError(
+            path + ": vertex " + std::to_string(i) + " property '" + kProps[k] +
+            "' is not finite (byte " +
+            std::to_string(data_start + static_cast<std::streamoff>(i) * stride + offs[k]) + ")");
+    }
     for (int k = 0; k < 3; ++k) {
       map.mean_w[3 * i + k] = v[k];
       map.color_rgb[3 * i + k] = 0.5f + c0 * v[6 + k];

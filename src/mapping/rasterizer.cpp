@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 #include "mapping/projection.hpp"
@@ -85,6 +88,10 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   };
   visible_slot_.resize(n);
   n_visible_ = 0;
+  // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
+  // before they are counted, so a map whose Gaussians cover too many tiles is a clear error, not
+  // an overflowed offset.
+  std::int64_t pairs = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (proj_.radius[i] == 0) {
       visible_slot_[i] = -1;
@@ -93,6 +100,14 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
     visible_slot_[i] = n_visible_++;
     int x0, y0, x1, y1;
     rect_of(i, x0, y0, x1, y1);
+    if (x1 >= x0 && y1 >= y0) pairs += std::int64_t{x1 - x0 + 1} * (y1 - y0 + 1);
+    if (pairs > kMaxTilePairs) {
+      throw std::length_error("rasterizer: more than " + std::to_string(kMaxTilePairs) +
+                              " Gaussian-tile pairs (at Gaussian " + std::to_string(i) + " of " +
+                              std::to_string(n) + ", " + std::to_string(n_tiles) + " tiles of " +
+                              std::to_string(kTilePx) +
+                              " px); the map has too many or too large Gaussians for this view");
+    }
     for (int ty = y0; ty <= y1; ++ty)
       for (int tx = x0; tx <= x1; ++tx)
         ++tile_offsets_[static_cast<std::size_t>(ty * tiles_x_ + tx) + 1];

@@ -5,6 +5,7 @@
 // rt::WorkerTeam with a static schedule; backward gradients go to per-thread buffers that are
 // summed in a fixed order at the end (no atomics), so results are bit-identical run to run.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "mapping/gaussian_map.hpp"
@@ -69,6 +70,9 @@ class Rasterizer {
 
   [[nodiscard]] const Projection<T>& projection() const { return proj_; }
   [[nodiscard]] std::size_t tile_pairs() const { return tile_ids_.size(); }
+  /// Most Gaussian-tile pairs one forward pass takes (1 GiB of tile ids); more throws
+  /// std::length_error naming the counts (bin_tiles sums in 64 bits).
+  static constexpr std::int64_t kMaxTilePairs = std::int64_t{1} << 28;
   /// Bytes held per Gaussian by this rasterizer's caches (projection, per-thread gradient
   /// buffers, tile lists), from the current capacities.
   [[nodiscard]] std::size_t cache_bytes() const;

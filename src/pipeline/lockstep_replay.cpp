@@ -81,7 +81,9 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
                               const std::function<void(const TrackedFrame&)>& on_frame) {
   const auto t0 = std::chrono::steady_clock::now();
   ReplayResult result;
-  const RecordedMotion motion = read_recorded_motion(path, options.imu_topic, options.pose_topic);
+  const RecordedMotion motion =
+      read_recorded_motion(path, options.imu_topic, options.pose_topic, options.allow_damaged);
+  result.damage = motion.damage;
   result.imu_samples = motion.imu.size();
 
   std::optional<Odometry> odometry;
@@ -145,7 +147,14 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     }
   };
   try {
-    io::for_each_recorded_frame(path, on_recorded);
+    const io::McapFrameStats st = io::for_each_recorded_frame(path, on_recorded);
+    if (st.damage.damaged()) {
+      if (!options.allow_damaged) {
+        throw RecordingError("damaged recording (" + st.damage.kind + "): " + st.damage.message +
+                             " (vigs replay --allow-truncated replays the intact part)");
+      }
+      if (!result.damage.damaged()) result.damage = st.damage;
+    }
   } catch (const StopReading&) {
   } catch (const RecordingError&) {
     throw;

@@ -63,6 +63,9 @@ struct ReplayOptions {
   int map_iterations_per_frame = 0;
   std::string imu_topic{io::topics::kImu.name};
   std::string pose_topic{io::topics::kBodyPose.name};
+  /// Replay the intact part of a damaged recording (ReplayResult::damage says what was found)
+  /// instead of refusing it.
+  bool allow_damaged = false;
 };
 
 struct ReplayResult {
@@ -74,6 +77,7 @@ struct ReplayResult {
   std::size_t imu_samples = 0;            ///< in the recording
   std::size_t imu_samples_fed = 0;        ///< fed before the last replayed frame
   std::int64_t frames_without_depth = 0;  ///< tracked with an all-invalid depth image
+  io::mcap::DamageReport damage;          ///< with allow_damaged: what the readers found
   double wall_s = 0.0;                    ///< whole replay: reading, decoding, tracking
   double track_s = 0.0;                   ///< inside Odometry::track only
   std::vector<float> track_ms;            ///< per frame, inside Odometry::track

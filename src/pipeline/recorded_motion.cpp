@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
+#include "io/finite_check.hpp"
 #include "io/io_error.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/ros_msgs/imu.hpp"
@@ -12,7 +13,7 @@
 namespace vigs::pipeline {
 
 RecordedMotion read_recorded_motion(const std::string& path, const std::string& imu_topic,
-                                    const std::string& pose_topic) {
+                                    const std::string& pose_topic, bool allow_damaged) {
   RecordedMotion motion;
   io::mcap::McapReaderOptions opt;
   opt.topics = {imu_topic, pose_topic};
@@ -22,9 +23,10 @@ RecordedMotion read_recorded_motion(const std::string& path, const std::string& 
     io::ros_msgs::Imu imu;
     io::ros_msgs::PoseStamped pose;
     while (reader.next(m)) {
+      const std::string record =
+          path + ": " + m.channel->topic + " message at byte " + std::to_string(m.record_offset);
       const auto where = [&](const std::string& what) {
-        return RecordingError(path + ": " + m.channel->topic + " message at byte " +
-                              std::to_string(m.record_offset) + ": " + what);
+        return RecordingError(record + ": " + what);
       };
       try {
         if (m.channel->topic == imu_topic) {
@@ -37,11 +39,15 @@ RecordedMotion read_recorded_motion(const std::string& path, const std::string& 
           s.accel_mps2[0] = imu.linear_acceleration.x;
           s.accel_mps2[1] = imu.linear_acceleration.y;
           s.accel_mps2[2] = imu.linear_acceleration.z;
+          io::require_all_finite(record, "angular_velocity", s.gyro_rps, 3);
+          io::require_all_finite(record, "linear_acceleration", s.accel_mps2, 3);
           motion.imu.push_back(s);
         } else {
           if (!io::ros_msgs::decode_message(m, pose)) throw where("not geometry_msgs/PoseStamped");
           const auto& p = pose.pose.position;
           const auto& q = pose.pose.orientation;
+          const double v[7] = {p.x, p.y, p.z, q.x, q.y, q.z, q.w};
+          io::require_all_finite(record, "pose (position xyz, orientation xyzw)", v, 7);
           const Eigen::Quaterniond quat(q.w, q.x, q.y, q.z);
           if (!(quat.norm() > 0.5 && quat.norm() < 1.5)) throw where("quaternion is not unit");
           StampedPose sp;
@@ -53,11 +59,14 @@ RecordedMotion read_recorded_motion(const std::string& path, const std::string& 
         throw where(e.what());
       }
     }
-    if (!reader.issues().empty()) {
+    if (allow_damaged) {
+      motion.damage = io::mcap::damage_of(reader);
+    } else if (!reader.issues().empty()) {
       const io::mcap::ReadIssue& issue = reader.issues().front();
       // The reader's message already names the file and the byte offset.
       throw RecordingError("damaged recording (" + std::string(io::mcap::to_string(issue.kind)) +
-                           "): " + issue.message);
+                           "): " + issue.message +
+                           " (vigs replay --allow-truncated replays the intact part)");
     }
   } catch (const io::IoError& e) {
     const std::string what = e.what();

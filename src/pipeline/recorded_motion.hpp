@@ -14,6 +14,7 @@
 #include "core/geometry/se3.hpp"
 #include "core/types/imu_sample.hpp"
 #include "io/recording_topics.hpp"
+#include "io/mcap/damage_report.hpp"
 
 namespace vigs::pipeline {
 
@@ -32,15 +33,19 @@ struct StampedPose {
 struct RecordedMotion {
   std::vector<ImuSample> imu;           ///< sorted by t_ns
   std::vector<StampedPose> body_poses;  ///< T_w_b, sorted by t_ns; empty without ground truth
+  io::mcap::DamageReport damage;        ///< set only when read with allow_damaged
 };
 
 /// Reads the whole file. Throws RecordingError naming the file when it cannot be opened, when
 /// the reader found any damage (truncation, bad CRC, malformed record: a partial recording is
-/// refused rather than replayed short), or when a message on either topic does not decode.
+/// refused rather than replayed short) unless `allow_damaged` (then the intact part is returned
+/// and the damage is in RecordedMotion::damage), when a message on either topic does not
+/// decode, or when a number in one is not finite (the record and field are named).
 /// A missing topic is not an error: the vector stays empty.
 RecordedMotion read_recorded_motion(
     const std::string& path, const std::string& imu_topic = std::string(io::topics::kImu.name),
-    const std::string& pose_topic = std::string(io::topics::kBodyPose.name));
+    const std::string& pose_topic = std::string(io::topics::kBodyPose.name),
+    bool allow_damaged = false);
 
 /// T_w_x at t_ns, interpolated between the two poses around it (position linearly, rotation by
 /// slerp); nullopt outside [first, last] stamp or when the gap between them exceeds max_gap_ns.

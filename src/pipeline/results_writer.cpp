@@ -9,6 +9,7 @@
 #include <system_error>
 #include <vector>
 
+#include "io/atomic_dir.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tum_trajectory.hpp"
 #include "mapping/ply_io.hpp"
@@ -24,11 +25,13 @@ double peak_rss_bytes() {
 
 void write_results_dir(const std::string& dir, const ReplayResult& r,
                        const std::string& stats_json) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(dir + ": cannot create directory: " + ec.message());
-  const std::filesystem::path root(dir);
+  io::replace_dir_atomically(dir, pipeline::kTrajectoryFile, [&](const std::filesystem::path& root) {
+    write_results_files(root, r, stats_json);
+  });
+}
 
+void write_results_files(const std::filesystem::path& root, const ReplayResult& r,
+                         const std::string& stats_json) {
   std::vector<io::TumPose> poses;
   std::vector<double> keyframe_t_s;
   poses.reserve(r.frames.size());

@@ -68,7 +68,8 @@ void Simulator::render_at(double t_s, std::uint64_t index, RgbdFrame& out) const
                     hash3(static_cast<std::uint64_t>(cfg_.sim.seed), 0xF4A3E, index), out);
 }
 
-SimStats Simulator::run(SimSink& sink, const std::function<void(double, double)>& progress) {
+SimStats Simulator::run(SimSink& sink, const std::function<void(double, double)>& progress,
+                        const std::atomic<bool>* stop) {
   const auto t_start = Clock::now();
   SimStats stats;
   stats.sequence_s = duration_s_;
@@ -118,8 +119,14 @@ SimStats Simulator::run(SimSink& sink, const std::function<void(double, double)>
     sink.frame(t_ns, camera_, buffers[j % 2]);
     ++stats.frames;
     if (progress) progress(static_cast<double>(t_ns) * 1e-9, duration_s_);
+    if (stop && stop->load(std::memory_order_relaxed)) {
+      stats.stopped = true;
+      if (j + 1 < n_frames) rendering.wait();  // frame j+1's buffers are in use until then
+      stats.sequence_s = static_cast<double>(t_ns) * 1e-9;
+      break;
+    }
   }
-  emit_imu_until(end_ns);
+  if (!stats.stopped) emit_imu_until(end_ns);
   stats.wall_s = seconds_since(t_start);
   return stats;
 }

@@ -2,6 +2,7 @@
 // Puts the simulator together: floor plan, camera route, people, IMU and ground truth at the
 // IMU rate, RGB-D frames at the camera rate, all delivered in time order to a SimSink.
 // Deterministic for a configuration (including its seed).
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -24,6 +25,7 @@ struct SimStats {
   double sequence_length_m = 0.0;  ///< path length within the generated sequence
   double wall_s = 0.0;             ///< run time
   double render_s = 0.0;           ///< ray casting (overlaps with writing the previous frame)
+  bool stopped = false;            ///< ended early by the `stop` flag of run()
 };
 
 class Simulator {
@@ -34,8 +36,11 @@ class Simulator {
 
   /// Generates the whole sequence into `sink`, calling it from this thread only. While frame j
   /// is written, frame j+1 is already being rendered. `progress(done_s, total_s)` is called
-  /// after every frame when given.
-  SimStats run(SimSink& sink, const std::function<void(double, double)>& progress = {});
+  /// after every frame when given. When `stop` is given and becomes true (e.g. set by a signal
+  /// handler), the run ends after the frame being written, with the IMU and ground truth up to
+  /// that frame, and SimStats::stopped is set; the sink is then closed as after a full run.
+  SimStats run(SimSink& sink, const std::function<void(double, double)>& progress = {},
+               const std::atomic<bool>* stop = nullptr);
 
   /// Body pose T_w_b and camera pose T_w_c = T_w_b T_b_c at time t.
   [[nodiscard]] geometry::Pose body_pose(double t_s) const;

@@ -258,19 +258,29 @@ class YamlLoader final : public Visitor {
 }  // namespace
 
 RobotConfig load_config_text(std::string_view yaml_text, const std::string& file_name) {
+  if (yaml_text.size() > kMaxConfigBytes) {
+    throw ConfigError({Diagnostic{file_name, 0, 0, "",
+                                  "file is " + std::to_string(yaml_text.size()) +
+                                      " bytes; a robot configuration is at most " +
+                                      std::to_string(kMaxConfigBytes) + " bytes"}});
+  }
   std::vector<Diagnostic> diagnostics;
   YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::Exception& e) {
-    Diagnostic d{file_name, e.mark.is_null() ? 0 : e.mark.line + 1,
-                 e.mark.is_null() ? 0 : e.mark.column + 1, "", "YAML syntax error: " + e.msg};
-    throw ConfigError({d});
-  }
   RobotConfig config;
-  YamlLoader loader(root, file_name, diagnostics);
-  config.visit(loader);
-  loader.finish();
+  try {
+    try {
+      root = YAML::Load(std::string(yaml_text));
+    } catch (const YAML::Exception& e) {
+      Diagnostic d{file_name, e.mark.is_null() ? 0 : e.mark.line + 1,
+                   e.mark.is_null() ? 0 : e.mark.column + 1, "", "YAML syntax error: " + e.msg};
+      throw ConfigError({d});
+    }
+    YamlLoader loader(root, file_name, diagnostics);
+    config.visit(loader);
+    loader.finish();
+  } catch (const std::bad_alloc&) {
+    throw ConfigError({Diagnostic{file_name, 0, 0, "", "out of memory while parsing"}});
+  }
   if (!diagnostics.empty()) {
     std::stable_sort(diagnostics.begin(), diagnostics.end(),
                      [](const Diagnostic& a, const Diagnostic& b) { return a.line < b.line; });
@@ -282,10 +292,17 @@ RobotConfig load_config_text(std::string_view yaml_text, const std::string& file
 RobotConfig load_config_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError({Diagnostic{path, 0, 0, "", "cannot open file"}});
-  std::ostringstream text;
-  text << in.rdbuf();
+  // Read at most one byte past the limit, so a huge file is refused without being read whole.
+  std::string text(kMaxConfigBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
   if (in.bad()) throw ConfigError({Diagnostic{path, 0, 0, "", "read error"}});
-  return load_config_text(text.str(), path);
+  if (text.size() > kMaxConfigBytes) {
+    throw ConfigError({Diagnostic{path, 0, 0, "",
+                                  "file is larger than " + std::to_string(kMaxConfigBytes) +
+                                      " bytes; a robot configuration is at most that"}});
+  }
+  return load_config_text(text, path);
 }
 
 }  // namespace vigs::config

@@ -9,6 +9,7 @@
 #include "io/io_error.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/oni/oni_clip_writer.hpp"
+#include "io/output_guard.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/typed_io.hpp"
 
@@ -89,6 +90,7 @@ std::vector<std::uint16_t> to_depth_mm(const ros_msgs::Image& img, const std::st
 
 McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::string& oni_path,
                                    const McapToOniOptions& options) {
+  refuse_output_over_inputs(oni_path, {mcap_path});
   mcap::McapReaderOptions ro;
   ro.topics = {options.rgb_topic, options.depth_topic};
   mcap::McapReader reader(mcap_path, ro);
@@ -158,6 +160,8 @@ McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::stri
   }
   writer.close();
   result.frames = stamps.size();
+  result.last_stamp_ns = static_cast<std::uint64_t>(stamps.back());
+  result.damage = mcap::damage_of(reader);
   return result;
 }
 

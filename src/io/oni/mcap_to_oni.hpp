@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <string>
 
+#include "io/mcap/damage_report.hpp"
+
 namespace vigs::io::oni {
 
 struct McapToOniOptions {
@@ -18,13 +20,18 @@ struct McapToOniResult {
   std::size_t unmatched = 0;  ///< colour or depth images without a partner of equal stamp
   std::uint32_t fps = 0;      ///< fps recorded in the clip
   std::uint32_t width = 0, height = 0;
+  /// Damage found in the part read: the clip holds the pairs of the intact part.
+  mcap::DamageReport damage;
+  std::uint64_t last_stamp_ns = 0;  ///< header stamp of the last pair written
 };
 
 /// Turns the colour and depth images of an MCAP recording (cdr or ros1) into an `.oni` clip that
 /// OpenNI2 plays back, so the OpenNI2 driver can run on simulated or uHumans data. Images are
 /// paired by equal header stamps. Depth 32FC1 (m) becomes mm (rounded; NaN, inf, <= 0 and
 /// > 65.535 m become 0 = no depth); bgr8 is swapped to RGB; mono8 is replicated. Throws IoError
-/// (no pairs, sizes that differ, unsupported encodings, unreadable files).
+/// (no pairs, sizes that differ, unsupported encodings, unreadable files, `oni_path` being the
+/// input file). Damage in the recording is not an error: the pairs before it are written and
+/// McapToOniResult::damage says what was found.
 McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::string& oni_path,
                                    const McapToOniOptions& options = {});
 

@@ -9,9 +9,11 @@
 #include <vector>
 
 #include "io/io_error.hpp"
+#include "io/mcap/damage_report.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
+#include "io/ros_msgs/message_checks.hpp"
 #include "io/ros_msgs/typed_io.hpp"
 
 namespace vigs::io {
@@ -25,17 +27,19 @@ struct FrameBuffers {
 };
 
 /// Gives the pending frame its depth when stamp and size match and the encoding is known.
+/// A depth image of the frame's stamp and size whose step or data do not hold it is an error.
 void attach_depth(const io::ros_msgs::Image& img, bool pending, std::int64_t tolerance_ns,
-                  FrameBuffers& buf, RecordedFrame& f) {
+                  FrameBuffers& buf, RecordedFrame& f, const std::string& where) {
   if (!pending) return;
   const std::int64_t dt_ns = img.header.stamp.to_ns() - f.view.t_ns;
   if (dt_ns > tolerance_ns || dt_ns < -tolerance_ns) return;
-  const int w = static_cast<int>(img.width), h = static_cast<int>(img.height);
-  if (w != f.view.width_px || h != f.view.height_px || img.is_bigendian) return;
-  const int bytes = img.encoding == "16UC1" ? 2 : img.encoding == "32FC1" ? 4 : 0;
-  if (bytes == 0 || img.step < static_cast<std::uint32_t>(w * bytes) ||
-      img.data.size() < static_cast<std::size_t>(img.step) * static_cast<std::size_t>(h))
+  if (img.width != static_cast<std::uint32_t>(f.view.width_px) ||
+      img.height != static_cast<std::uint32_t>(f.view.height_px) || img.is_bigendian)
     return;
+  const int w = f.view.width_px, h = f.view.height_px;
+  const int bytes = img.encoding == "16UC1" ? 2 : img.encoding == "32FC1" ? 4 : 0;
+  if (bytes == 0) return;
+  io::ros_msgs::check_image(where, img, static_cast<std::uint64_t>(bytes));
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   if (bytes == 2) {
     buf.depth_u16.resize(n);
@@ -50,7 +54,11 @@ void attach_depth(const io::ros_msgs::Image& img, bool pending, std::int64_t tol
         buf.depth_u16[at + static_cast<std::size_t>(x)] =
             static_cast<std::uint16_t>(row[2 * x] | (row[2 * x + 1] << 8));
     } else {
-      std::memcpy(buf.depth_f32.data() + at, row, static_cast<std::size_t>(w) * 4);
+      float* out = buf.depth_f32.data() + at;
+      std::memcpy(out, row, static_cast<std::size_t>(w) * 4);
+      // NaN, Inf and negative depths (hostile or invalid pixels) become 0 = no depth.
+      for (int x = 0; x < w; ++x)
+        if (!(std::isfinite(out[x]) && out[x] > 0)) out[x] = 0.0f;
     }
   }
   f.view.depth_row_stride = static_cast<std::size_t>(w);
@@ -90,14 +98,17 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
     fn(f);
   };
   std::uint64_t index = 0;
+  const auto record = [&] {
+    return path + ": " + m.channel->topic + " message at byte " + std::to_string(m.record_offset);
+  };
   const auto where = [&](const std::string& what) {
-    return std::runtime_error(path + ": " + m.channel->topic + " message at byte " +
-                              std::to_string(m.record_offset) + ": " + what);
+    return std::runtime_error(record() + ": " + what);
   };
   while (reader.next(m)) {
     try {
       if (m.channel->topic == info_topic) {
         if (!io::ros_msgs::decode_message(m, info)) throw where("not sensor_msgs/CameraInfo");
+        io::ros_msgs::check_camera_info(record(), info);
         camera = PinholeCamera{static_cast<int>(info.width),
                                static_cast<int>(info.height),
                                info.k[0],
@@ -108,7 +119,7 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
       }
       if (!io::ros_msgs::decode_message(m, img)) throw where("not sensor_msgs/Image");
       if (m.channel->topic == depth_topic) {
-        attach_depth(img, pending, depth_tolerance_ns, buf, f);
+        attach_depth(img, pending, depth_tolerance_ns, buf, f, record());
         flush();
         continue;
       }
@@ -126,14 +137,15 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
                                                                         : 0;
     if (ch == 0)
       throw where("colour encoding '" + img.encoding + "' (rgb8, bgr8 or mono8 expected)");
-    const int w = static_cast<int>(img.width), h = static_cast<int>(img.height);
-    if (w != camera->width_px || h != camera->height_px)
-      throw where("image is " + std::to_string(w) + "x" + std::to_string(h) +
+    if (img.width != static_cast<std::uint32_t>(camera->width_px) ||
+        img.height != static_cast<std::uint32_t>(camera->height_px))
+      throw where("image is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
                   " but its CameraInfo says " + std::to_string(camera->width_px) + "x" +
                   std::to_string(camera->height_px));
-    if (img.step < static_cast<std::uint32_t>(w * ch) ||
-        img.data.size() < static_cast<std::size_t>(img.step) * static_cast<std::size_t>(h))
-      throw where("image data shorter than step x height");
+    // 64-bit checks of width x channels, step x height against the data (the CameraInfo sizes
+    // are range-checked already).
+    io::ros_msgs::check_image(record(), img, static_cast<std::uint64_t>(ch));
+    const int w = camera->width_px, h = camera->height_px;
     std::swap(colour, img);  // keeps the pixels while the depth message is decoded into img
     f.index = i;
     f.camera = *camera;
@@ -163,6 +175,7 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
     pending = true;
   }
   flush();
+  st.damage = io::mcap::damage_of(reader);
   return st;
 }
 

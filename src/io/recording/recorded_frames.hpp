@@ -14,6 +14,7 @@
 #include "core/types/pinhole_camera.hpp"
 #include "core/types/rgbd_view.hpp"
 #include "io/recording_topics.hpp"
+#include "io/mcap/damage_report.hpp"
 
 namespace vigs::io {
 
@@ -35,17 +36,22 @@ struct RecordedFrame {
 struct McapFrameStats {
   std::uint64_t frames = 0;               ///< colour messages delivered
   std::uint64_t without_camera_info = 0;  ///< colour messages skipped: no CameraInfo yet
+  /// Damage the reader found; the frames delivered are those of the intact part. The caller
+  /// reports it (or refuses the file).
+  io::mcap::DamageReport damage;
 };
 
 /// Calls `fn` for every colour frame in file order. Throws io::IoError when the file cannot be
 /// opened, and
 /// std::runtime_error naming the file and byte offset on undecodable messages, an unsupported
-/// encoding or an image whose size differs from its CameraInfo.
-McapFrameStats for_each_recorded_frame(
-    const std::string& path, const std::function<void(const RecordedFrame&)>& fn,
-    const std::string& rgb_topic = std::string(io::topics::kRgb.name),
-    const std::string& info_topic = std::string(io::topics::kCameraInfo.name),
-    const std::string& depth_topic = std::string(io::topics::kDepth.name),
-    std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
+/// encoding or an image whose size differs from its CameraInfo; io::IoError naming the record
+/// and field on a CameraInfo out of range (size, non-finite K, fx or fy <= 0) or an image whose
+/// step or data cannot hold its width x height (checked in 64 bits).
+McapFrameStats for_each_recorded_frame(const std::string& path,
+                                       const std::function<void(const RecordedFrame&)>& fn,
+                                       const std::string& rgb_topic = std::string(io::topics::kRgb.name),
+                                       const std::string& info_topic = std::string(io::topics::kCameraInfo.name),
+                                       const std::string& depth_topic = std::string(io::topics::kDepth.name),
+                                       std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
 
 }  // namespace vigs::io
