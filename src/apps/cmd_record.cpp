@@ -28,7 +28,7 @@ namespace {
 
 std::atomic<int> g_stop_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free);
-extern "C" void on_stop_signal(int sig) {
+extern "C" void on_record_stop_signal(int sig) {
   g_stop_signal.store(sig, std::memory_order_relaxed);  // async-signal-safe: a lock-free store
 }
 
@@ -109,7 +109,7 @@ int run_record(const RecordOptions& o) {
 
   g_stop_signal.store(0);
   struct sigaction sa {};
-  sa.sa_handler = on_stop_signal;
+  sa.sa_handler = on_record_stop_signal;
   sigemptyset(&sa.sa_mask);
   ::sigaction(SIGINT, &sa, nullptr);
   ::sigaction(SIGTERM, &sa, nullptr);

@@ -37,7 +37,7 @@ std::atomic<bool> g_stop{false};
 std::atomic<int> g_signal{0};
 static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free);
 
-extern "C" void on_stop_signal(int signo) {
+extern "C" void on_simulate_stop_signal(int signo) {
   g_signal.store(signo, std::memory_order_relaxed);
   g_stop.store(true, std::memory_order_relaxed);
 }
@@ -47,7 +47,7 @@ class StopSignals {
  public:
   StopSignals() {
     struct sigaction sa {};
-    sa.sa_handler = on_stop_signal;
+    sa.sa_handler = on_simulate_stop_signal;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESETHAND | SA_RESTART;  // no EINTR in the writer
     ::sigaction(SIGINT, &sa, &old_int_);

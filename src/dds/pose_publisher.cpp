@@ -147,7 +147,11 @@ void PosePublisher::publish(const PoseSample& s) {
     rejected_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  const bool ok = e.pose->write(&e.pose_msg) & e.odom->write(&e.odom_msg) & e.tf->write(&e.tf_msg);
+  // All three are written whatever the others return (no short circuit).
+  const bool pose_ok = e.pose->write(&e.pose_msg);
+  const bool odom_ok = e.odom->write(&e.odom_msg);
+  const bool tf_ok = e.tf->write(&e.tf_msg);
+  const bool ok = pose_ok && odom_ok && tf_ok;
   if (!ok) write_errors_.fetch_add(1, std::memory_order_relaxed);
   poses_published_.fetch_add(1, std::memory_order_relaxed);
   if (s.keyframe) {

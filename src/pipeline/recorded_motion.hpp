@@ -13,8 +13,8 @@
 
 #include "core/geometry/se3.hpp"
 #include "core/types/imu_sample.hpp"
-#include "io/recording_topics.hpp"
 #include "io/mcap/damage_report.hpp"
+#include "io/recording_topics.hpp"
 
 namespace vigs::pipeline {
 

@@ -25,9 +25,9 @@ double peak_rss_bytes() {
 
 void write_results_dir(const std::string& dir, const ReplayResult& r,
                        const std::string& stats_json) {
-  io::replace_dir_atomically(dir, pipeline::kTrajectoryFile, [&](const std::filesystem::path& root) {
-    write_results_files(root, r, stats_json);
-  });
+  io::replace_dir_atomically(
+      dir, pipeline::kTrajectoryFile,
+      [&](const std::filesystem::path& root) { write_results_files(root, r, stats_json); });
 }
 
 void write_results_files(const std::filesystem::path& root, const ReplayResult& r,

@@ -13,8 +13,8 @@
 
 #include "core/types/pinhole_camera.hpp"
 #include "core/types/rgbd_view.hpp"
-#include "io/recording_topics.hpp"
 #include "io/mcap/damage_report.hpp"
+#include "io/recording_topics.hpp"
 
 namespace vigs::io {
 
@@ -47,11 +47,11 @@ struct McapFrameStats {
 /// encoding or an image whose size differs from its CameraInfo; io::IoError naming the record
 /// and field on a CameraInfo out of range (size, non-finite K, fx or fy <= 0) or an image whose
 /// step or data cannot hold its width x height (checked in 64 bits).
-McapFrameStats for_each_recorded_frame(const std::string& path,
-                                       const std::function<void(const RecordedFrame&)>& fn,
-                                       const std::string& rgb_topic = std::string(io::topics::kRgb.name),
-                                       const std::string& info_topic = std::string(io::topics::kCameraInfo.name),
-                                       const std::string& depth_topic = std::string(io::topics::kDepth.name),
-                                       std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
+McapFrameStats for_each_recorded_frame(
+    const std::string& path, const std::function<void(const RecordedFrame&)>& fn,
+    const std::string& rgb_topic = std::string(io::topics::kRgb.name),
+    const std::string& info_topic = std::string(io::topics::kCameraInfo.name),
+    const std::string& depth_topic = std::string(io::topics::kDepth.name),
+    std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
 
 }  // namespace vigs::io
