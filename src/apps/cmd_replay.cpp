@@ -25,6 +25,7 @@ struct ReplayArgs {
   std::string recording, out, config_file, guess, fusion, initial_pose = "gravity";
   std::int64_t frames = 0;
   int map_iterations = 0;
+  double map_budget_ms = 0.0;
   bool quiet = false, allow_truncated = false;
 };
 
@@ -84,6 +85,8 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
     s["gaussians"] = r.map->size();
     s["map_iterations"] = r.map_iterations;
     s["map_ms_per_frame"] = n > 0 ? num(1e3 * r.map_s / frames) : io::Json(nullptr);
+    s["map_budget_ms"] = r.map_budget_ms > 0 ? num(r.map_budget_ms) : io::Json(nullptr);
+    s["map_budget_overruns"] = r.map_budget_overruns;
   }
   return s;
 }
@@ -120,6 +123,10 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--map-iterations", a.map_iterations,
                   "build map.ply: mapper iterations after every frame (0 = no map)")
       ->check(CLI::Range(0, 1000));
+  cmd->add_option("--map-budget-ms", a.map_budget_ms,
+                  "build map.ply with this mapper time budget per frame, ms (mapping.budget_ms; "
+                  "replaces --map-iterations; iteration count follows the wall clock)")
+      ->check(CLI::Range(0.0, 10000.0));
   cmd->add_flag("--allow-truncated", a.allow_truncated,
                 "replay the intact part of a damaged (truncated, corrupt) recording instead of "
                 "refusing it; stderr and stats.json input_damage say what was used");
@@ -143,6 +150,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                              ? pipeline::InitialPoseSource::ground_truth
                              : pipeline::InitialPoseSource::gravity;
       opt.map_iterations_per_frame = a.map_iterations;
+      opt.map_budget_ms = a.map_budget_ms;
       opt.allow_damaged = a.allow_truncated;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;

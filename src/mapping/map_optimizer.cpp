@@ -30,6 +30,14 @@ AdamSettings adam_settings_from(const config::MappingSettings& s) {
   return a;
 }
 
+InsertSettings insert_settings_from(const config::MappingSettings& s) {
+  InsertSettings i;
+  i.voxel_m = s.insert_voxel_m;
+  i.opacity = s.insert_opacity;
+  i.min_scale_m = s.min_scale_m;
+  return i;
+}
+
 MapOptimizer::MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* pool)
     : s_(s),
       raster_(RasterSettings{}, pool),

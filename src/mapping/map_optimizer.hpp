@@ -9,6 +9,7 @@
 
 #include "core/config/mapping_settings.hpp"
 #include "mapping/adam.hpp"
+#include "mapping/insertion.hpp"
 #include "mapping/loss.hpp"
 #include "mapping/rasterizer.hpp"
 
@@ -59,5 +60,6 @@ class MapOptimizer {
 };
 
 AdamSettings adam_settings_from(const config::MappingSettings& s);
+InsertSettings insert_settings_from(const config::MappingSettings& s);
 
 }  // namespace vigs::mapping

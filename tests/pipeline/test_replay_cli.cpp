@@ -134,6 +134,23 @@ TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
   EXPECT_GT(number_after("psnr_valid_depth_db"), 20.0) << report;
 }
 
+TEST_F(ReplayCli, MapBudgetBuildsAMapWithTheBudgetInItsStats) {
+  const std::string out = dir_.file("budget");
+  ASSERT_EQ(run(vigs("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
+                         " --frames 20 --map-budget-ms 15 --quiet",
+                     "budget")),
+            0)
+      << read_text(dir_.file("budget.err"));
+  ASSERT_TRUE(std::filesystem::exists(out + "/" + pipeline::kMapFile));
+  const std::string stats = read_text(out + "/" + pipeline::kStatsFile);
+  EXPECT_NE(stats.find("\"map_budget_ms\": 15"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"map_budget_overruns\": "), std::string::npos) << stats;
+  // the count follows the clock: not the fixed --map-iterations schedule's 0 (no map)
+  const std::size_t at = stats.find("\"map_iterations\": ");
+  ASSERT_NE(at, std::string::npos) << stats;
+  EXPECT_GT(std::strtol(stats.c_str() + at + 18, nullptr, 10), 0) << stats;
+}
+
 TEST_F(ReplayCli, DamagedRecordingsAreRefusedNamingTheFile) {
   const std::string bytes = read_text(path_);
   ASSERT_GT(bytes.size(), 100000u);

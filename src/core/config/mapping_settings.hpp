@@ -17,11 +17,12 @@ struct MappingSettings {
   double prune_min_opacity = 0.005;
   double prune_max_scale_m = 0.5;
   double insert_voxel_m = 0.02;  ///< one Gaussian per occupied voxel of this size
-  double insert_opacity = 0.1;   ///< initial opacity of inserted Gaussians
+  double insert_opacity = 0.9;   ///< initial opacity of inserted Gaussians at full confidence
   double min_scale_m = 1e-4;     ///< floor on initial standard deviations
   int threads = 2;               ///< rasterizer worker threads
   double rate_hz = 10.0;         ///< mapper task rate
-  int iterations_per_tick = 1;   ///< optimisation iterations per mapper tick
+  int iterations_per_tick = 1;   ///< optimisation iterations per mapper tick (budget_ms 0)
+  double budget_ms = 0.0;        ///< time per mapper tick; > 0 replaces iterations_per_tick
   int window_keyframes = 8;      ///< recent keyframes in the training window
   int random_keyframes = 2;      ///< older keyframes drawn at random per round
 
@@ -40,12 +41,20 @@ struct MappingSettings {
             {"m", 0.001, 100.0, "Gaussians with a larger standard deviation are pruned"});
     v.field("insert_voxel_m", insert_voxel_m,
             {"m", 0.001, 1.0, "insertion skips voxels of this size that already hold a Gaussian"});
-    v.field("insert_opacity", insert_opacity, {"-", 0.001, 0.99, "opacity of new Gaussians"});
+    v.field("insert_opacity", insert_opacity,
+            {"-", 0.001, 0.99,
+             "opacity of new Gaussians at full depth confidence (lower where the sample's "
+             "covariance is thick against its footprint); the flat opacity without a sample "
+             "angle"});
     v.field("min_scale_m", min_scale_m, {"m", 1e-6, 1.0, "floor on initial standard deviations"});
     v.field("threads", threads, {"threads", 1, 64, "rasterizer worker threads"});
     v.field("rate_hz", rate_hz, {"Hz", 0.1, 1000.0, "mapper task rate"});
     v.field("iterations_per_tick", iterations_per_tick,
-            {"iterations", 1, 1000, "optimisation iterations per mapper tick"});
+            {"iterations", 1, 1000, "optimisation iterations per mapper tick when budget_ms is 0"});
+    v.field("budget_ms", budget_ms,
+            {"ms", 0.0, 10000.0,
+             "mapper time per tick (insertion + iterations); an iteration starts only while time "
+             "is left, an overrun is taken from the next tick; 0 = iterations_per_tick"});
     v.field("window_keyframes", window_keyframes,
             {"keyframes", 1, 1000, "recent keyframes trained in turn"});
     v.field("random_keyframes", random_keyframes,
