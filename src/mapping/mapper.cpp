@@ -69,7 +69,15 @@ void Mapper::tick() {
       eos_.store(true);
       continue;
     }
-    inserter_.insert(map_, kf->gaussians);
+    const std::vector<char>* keep = nullptr;
+    if (map_.size() > 0 && kf->camera.width_px > 0) {
+      optimizer_.rasterizer().forward(map_, kf->camera, gate_render_);
+      const std::size_t kept =
+          gate_points(kf->gaussians, kf->camera, gate_render_, gate_, gate_keep_);
+      gated_.add(kf->gaussians.points_c.size() - kept);
+      keep = &gate_keep_;
+    }
+    inserter_.insert(map_, kf->gaussians, keep);
     kf->gaussians = KeyframeGaussians{};  // points are in the map now; keep only the view
     if (keyframes_.size() == max_keyframes_) keyframes_.erase(keyframes_.begin());
     keyframes_.push_back(std::move(kf));

@@ -9,6 +9,9 @@
 // it. With budget_ms 0 a tick runs iterations_per_tick iterations. A budgeted replay is not
 // deterministic (the iteration count follows the wall clock).
 //
+// Insertion: a keyframe's points are first gated against a render of the map from the
+// keyframe's camera (insertion_gate.hpp: only where the map is missing or wrong), then inserted.
+//
 // Keyframe queue policy (see rt/spsc_ring.hpp): at most `max_pending` unprocessed keyframes are
 // kept; older extra ones are skipped and counted (skipped_keyframes). A keyframe with
 // end_of_stream set ends the stream; the mapper then keeps optimising until stopped.
@@ -24,6 +27,7 @@
 
 #include "core/config/mapping_settings.hpp"
 #include "mapping/insertion.hpp"
+#include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "rt/counters.hpp"
 #include "rt/spsc_ring.hpp"
@@ -62,6 +66,9 @@ class Mapper {
   }
 
   [[nodiscard]] const GaussianMap& map() const { return map_; }  ///< mapper thread only
+  /// Memory per Gaussian of the map and its optimiser (MapOptimizer::bytes_per_gaussian);
+  /// mapper thread only.
+  [[nodiscard]] double bytes_per_gaussian() const { return optimizer_.bytes_per_gaussian(map_); }
   [[nodiscard]] bool end_of_stream() const noexcept { return eos_.load(); }
   [[nodiscard]] std::uint64_t keyframes_ingested() const noexcept { return ingested_.get(); }
   [[nodiscard]] std::uint64_t skipped_keyframes() const noexcept { return skipped_.get(); }
@@ -72,6 +79,8 @@ class Mapper {
   [[nodiscard]] std::int64_t last_tick_ns() const noexcept { return last_tick_ns_.load(); }
   /// Ticks that ended past their (carried) budget.
   [[nodiscard]] std::uint64_t budget_overruns() const noexcept { return overruns_.get(); }
+  /// Keyframe points not inserted because the map already rendered them (insertion_gate.hpp).
+  [[nodiscard]] std::uint64_t gated_points() const noexcept { return gated_.get(); }
 
  private:
   std::size_t next_view();
@@ -96,8 +105,11 @@ class Mapper {
   std::atomic<std::int64_t> last_tick_ns_{0};
   std::function<std::int64_t()> now_ns_;
   std::int64_t budget_ns_ = 0;
+  GateSettings gate_;
+  RenderResult<float> gate_render_;
+  std::vector<char> gate_keep_;
   std::int64_t carry_ns_ = 0;  ///< <= 0: overrun still to be taken from the next ticks
-  rt::SingleWriterCounter ingested_, skipped_, iterations_, overruns_;
+  rt::SingleWriterCounter ingested_, skipped_, iterations_, overruns_, gated_;
 };
 
 }  // namespace vigs::mapping

@@ -145,10 +145,11 @@ TEST_F(ReplayCli, MapBudgetBuildsAMapWithTheBudgetInItsStats) {
   const std::string stats = read_text(out + "/" + pipeline::kStatsFile);
   EXPECT_NE(stats.find("\"map_budget_ms\": 15"), std::string::npos) << stats;
   EXPECT_NE(stats.find("\"map_budget_overruns\": "), std::string::npos) << stats;
-  // the count follows the clock: not the fixed --map-iterations schedule's 0 (no map)
-  const std::size_t at = stats.find("\"map_iterations\": ");
-  ASSERT_NE(at, std::string::npos) << stats;
-  EXPECT_GT(std::strtol(stats.c_str() + at + 18, nullptr, 10), 0) << stats;
+  EXPECT_NE(stats.find("\"map_bytes_per_gaussian\": "), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"map_gated_points\": "), std::string::npos) << stats;
+  // how many iterations fit follows the wall clock (a loaded machine may fit none), so only
+  // the key is checked
+  EXPECT_NE(stats.find("\"map_iterations\": "), std::string::npos) << stats;
 }
 
 TEST_F(ReplayCli, DamagedRecordingsAreRefusedNamingTheFile) {
