@@ -18,18 +18,13 @@
 #include <cstdint>
 #include <unordered_set>
 
+#include "core/config/mapping_components.hpp"
 #include "mapping/gaussian_map.hpp"
 #include "mapping/keyframe_gaussians.hpp"
 
 namespace vigs::mapping {
 
-struct InsertSettings {
-  double voxel_m = 0.02;
-  double opacity = 0.9;  ///< at full depth confidence (the flat opacity of the GS-ICP rule)
-  double min_scale_m = 1e-4;
-  double cover = 0.7;  ///< in-plane standard deviation per footprint width
-  double thin = 0.2;   ///< largest normal standard deviation per footprint width
-};
+using config::InsertSettings;  // defaults: core/config/mapping_components.hpp
 
 class GaussianInserter {
  public:

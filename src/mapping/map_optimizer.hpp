@@ -9,7 +9,6 @@
 
 #include "core/config/mapping_settings.hpp"
 #include "mapping/adam.hpp"
-#include "mapping/insertion.hpp"
 #include "mapping/loss.hpp"
 #include "mapping/rasterizer.hpp"
 
@@ -22,10 +21,7 @@ struct TrainingView {
   const float* depth_m = nullptr;
 };
 
-struct PruneSettings {
-  double min_opacity = 0.005;
-  double max_scale_m = 0.5;
-};
+using config::PruneSettings;  // defaults: core/config/mapping_components.hpp
 
 /// Marks Gaussians to keep: opacity >= min_opacity and every standard deviation <= max_scale_m.
 std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s);
@@ -58,8 +54,5 @@ class MapOptimizer {
   std::vector<float> v_color_, v_depth_;
   long iterations_ = 0;
 };
-
-AdamSettings adam_settings_from(const config::MappingSettings& s);
-InsertSettings insert_settings_from(const config::MappingSettings& s);
 
 }  // namespace vigs::mapping

@@ -13,7 +13,7 @@ Mapper::Mapper(const config::MappingSettings& s, KeyframeRing& ring, rt::WorkerT
       ring_(ring),
       max_pending_(max_pending),
       max_keyframes_(std::max<std::size_t>(1, max_keyframes)),
-      inserter_(insert_settings_from(s)),
+      inserter_(s.insert),
       optimizer_(s, pool),
       now_ns_(&rt::monotonic_ns),
       budget_ns_(static_cast<std::int64_t>(s.budget_ms * 1e6 + 0.5)) {}
