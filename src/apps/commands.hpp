@@ -25,5 +25,6 @@ void add_map_command(CLI::App& app, ExitCode& exit_code);
 void add_replay_command(CLI::App& app, ExitCode& exit_code);
 void add_echo_command(CLI::App& app, ExitCode& exit_code);
 void add_topics_command(CLI::App& app, ExitCode& exit_code);
+void add_import_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps
