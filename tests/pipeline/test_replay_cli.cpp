@@ -128,9 +128,9 @@ TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
 
 TEST_F(ReplayCli, MapBudgetBuildsAMapWithTheBudgetInItsStats) {
   const std::string out = dir_.file("budget");
-  ASSERT_EQ(run(vigs("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
-                         " --frames 20 --map-budget-ms 15 --quiet",
-                     "budget")),
+  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
+                                dir_.file("robot.yaml") + " --frames 20 --map-budget-ms 15 --quiet",
+                            "budget")),
             0)
       << read_text(dir_.file("budget.err"));
   ASSERT_TRUE(std::filesystem::exists(out + "/" + pipeline::kMapFile));
