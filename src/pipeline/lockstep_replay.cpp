@@ -106,7 +106,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
       }
       if (options.map_budget_ms > 0.0 || options.map_iterations_per_frame > 0)
         mapper.emplace(cfg.mapping, rec.camera, options.map_iterations_per_frame,
-                       options.map_budget_ms, cfg.tracking.pixel_stride);
+                       options.map_budget_ms, cfg.tracking.preprocess.depth.pixel_stride);
       result.camera = rec.camera;
       result.guess = odometry->guess_mode();
       result.fusion = odometry->fusion_mode();
