@@ -77,8 +77,10 @@ std::string default_sequence(const config::RobotConfig& base, const RunArgs& a, 
           .string();
   if (std::filesystem::exists(path)) return path;
   if (!quiet)
-    std::fprintf(stderr, "vigs run: simulating the default office sequence (%.0f s, %d people) "
-                         "once -> %s\n", a.seconds, a.humans, path.c_str());
+    std::fprintf(stderr,
+                 "vigs run: simulating the default office sequence (%.0f s, %d people) "
+                 "once -> %s\n",
+                 a.seconds, a.humans, path.c_str());
   sim::Simulator simulator(cfg);
   sim::McapSinkOptions opt;
   opt.depth_encoding = cfg.sim.depth_encoding;
@@ -172,7 +174,9 @@ int run_command(const RunArgs& a) {
 
   const io::Json stats = live_stats(r, o.recording, mode);
   pipeline::write_results_dir(a.out, r.replay, io::json_lines(stats) + "\n");
-  io::Json summary{{"out", a.out}, {"mode", mode}, {"frames", r.replay.frames.size()},
+  io::Json summary{{"out", a.out},
+                   {"mode", mode},
+                   {"frames", r.replay.frames.size()},
                    {"real_time_factor", io::rounded(r.real_time_factor, 4)},
                    {"tracker_cycle_ms_p99", io::rounded(r.cycle_p99_ns * 1e-6, 4)},
                    {"track_ms_p99", io::rounded(r.track_p99_ns * 1e-6, 4)},
@@ -189,15 +193,16 @@ int run_command(const RunArgs& a) {
   }
   std::printf("%s\n", io::json_line(summary).c_str());
   if (!quiet) {
-    std::fprintf(stderr, "vigs run: %zu frames, real-time factor %.2f, tracker p99 %.1f ms, "
-                         "drops %llu%s -> %s\n",
-                 r.replay.frames.size(), r.real_time_factor, r.cycle_p99_ns * 1e-6,
-                 static_cast<unsigned long long>(r.drops),
-                 summary.contains("ate_rmse_m")
-                     ? (", ATE " + std::to_string(summary["ate_rmse_m"].get<double>()) + " m")
-                           .c_str()
-                     : "",
-                 a.out.c_str());
+    std::fprintf(
+        stderr,
+        "vigs run: %zu frames, real-time factor %.2f, tracker p99 %.1f ms, "
+        "drops %llu%s -> %s\n",
+        r.replay.frames.size(), r.real_time_factor, r.cycle_p99_ns * 1e-6,
+        static_cast<unsigned long long>(r.drops),
+        summary.contains("ate_rmse_m")
+            ? (", ATE " + std::to_string(summary["ate_rmse_m"].get<double>()) + " m").c_str()
+            : "",
+        a.out.c_str());
   }
   return 0;
 }

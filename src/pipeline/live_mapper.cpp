@@ -29,7 +29,8 @@ void LiveMapper::tick() {
       break;
     }
     KeyframeSlot& slot = handoff_.slot(index);
-    const RgbdView view = pool_frame_view(pool_.frame(slot.frame), pool_.settings(), depth_scale_m_);
+    const RgbdView view =
+        pool_frame_view(pool_.frame(slot.frame), pool_.settings(), depth_scale_m_);
     ImageU8 rgb;
     ImageF32 depth_m;
     copy_rgb8(view, rgb);

@@ -28,7 +28,9 @@ rt::ThreadSpec table_spec(const char* name, const config::RtSettings& rt) {
   return rt::apply_policy(rt::thread_spec(name), rt.realtime_priorities, rt.pin_cpus);
 }
 
-std::int64_t period_ns(double rate_hz) { return std::llround(1e9 / rate_hz); }
+std::int64_t period_ns(double rate_hz) {
+  return std::llround(1e9 / rate_hz);
+}
 
 }  // namespace
 
@@ -39,8 +41,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
 
   // 1. Memory: lock it (rt.lock_memory) before any pool or ring exists.
   out.memory_lock = "not requested";
-  if (rtc.lock_memory)
-    out.memory_lock = std::string(rt::to_string(rt::lock_memory().result));
+  if (rtc.lock_memory) out.memory_lock = std::string(rt::to_string(rt::lock_memory().result));
 
   // 2. Pool and rings, all allocated here.
   // The camera: the recording's, or the robot's (camera.*).
@@ -83,8 +84,8 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       throw std::runtime_error("live sensors need camera.driver openni2 and imu.driver serial");
     camera_driver = std::make_unique<drivers::Openni2Driver>(
         drivers::openni2_settings(cfg.camera, rtc), pool, frames);
-    imu_driver = std::make_unique<drivers::SerialImuDriver>(
-        drivers::serial_imu_settings(cfg.imu, rtc), imu);
+    imu_driver =
+        std::make_unique<drivers::SerialImuDriver>(drivers::serial_imu_settings(cfg.imu, rtc), imu);
   }
   if (o.mapping) handoff.emplace(kKeyframeSlots, camera.width_px * camera.height_px);
 
@@ -138,8 +139,8 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   std::int64_t next_status = t_start, next_progress = t_start;
   std::vector<float> track_ms;
   bool ended = false;
-  LiveStatusSources status_sources{&tracker_task, mapper_task.get(), &tracker, mapper.get(),
-                                   &frames, &imu, &poses};
+  LiveStatusSources status_sources{
+      &tracker_task, mapper_task.get(), &tracker, mapper.get(), &frames, &imu, &poses};
   const auto drain = [&] {
     LiveFrameResult r;
     while (results.try_pop(r)) {
@@ -171,9 +172,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
         p.stream_s = rt::ns_to_s(out.replay.frames.back().t_ns - out.replay.frames.front().t_ns);
       p.track_p50_ns = tracker_task.cycle_time().p50();
       p.track_p99_ns = tracker_task.cycle_time().p99();
-      p.drops = total_drops(status_sources) + (recording ? recording->counters().frame_drops +
-                                                               recording->counters().imu_drops
-                                                         : 0);
+      p.drops =
+          total_drops(status_sources) +
+          (recording ? recording->counters().frame_drops + recording->counters().imu_drops : 0);
       if (mapper) p.gaussians = mapper->gaussians();
       progress(p);
       next_progress = now + rt::ms_to_ns(500);
@@ -210,6 +211,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   r.counters = tracker.odometry_counters();
   r.camera = camera;
   r.guess = tracking::initial_guess_from_string(cfg.tracking.initial_guess);
+  (void)parse_fusion_mode(cfg.tracking.fusion, r.fusion);  // checked by the config loader
   r.initial_pose = tracker.initial_pose();
   r.wall_s = rt::ns_to_s(wall_ns);
   r.track_ms = track_ms;
@@ -242,8 +244,8 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     out.track_p50_ns = at(0.5);
     out.track_p99_ns = at(0.99);
   }
-  out.drops = total_drops(status_sources) +
-              (recording ? out.source.frame_drops + out.source.imu_drops : 0);
+  out.drops =
+      total_drops(status_sources) + (recording ? out.source.frame_drops + out.source.imu_drops : 0);
   if (r.frames.size() >= 2) {
     out.stream_s = rt::ns_to_s(r.frames.back().t_ns - r.frames.front().t_ns);
     out.real_time_factor = r.wall_s > 0 ? out.stream_s / r.wall_s : 0;

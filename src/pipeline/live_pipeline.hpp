@@ -32,13 +32,13 @@
 namespace vigs::pipeline {
 
 struct LiveOptions {
-  std::string recording;  ///< MCAP played into the rings; empty: the robot's live sensors
+  std::string recording;    ///< MCAP played into the rings; empty: the robot's live sensors
   std::string config_path;  ///< for dds.qos_profiles; empty: the built-in configuration
   bool lockstep = false;
   bool mapping = true;
   std::int64_t max_frames = 0;  ///< recording: 0 = all
   std::int64_t wait_timeout_ns = 30'000'000'000;
-  std::optional<int> dds_domain;  ///< overrides dds.domain_id (tests)
+  std::optional<int> dds_domain;           ///< overrides dds.domain_id (tests)
   const std::atomic<int>* stop = nullptr;  ///< non-zero: stop (a signal handler's flag)
   /// Before the sources start, wait (up to 30 s, else throw) for this many pose subscribers.
   int wait_for_subscribers = 0;
@@ -64,9 +64,9 @@ struct LiveResult {
   std::int64_t cycle_p50_ns = 0, cycle_p99_ns = 0;  ///< tracker task body
   std::int64_t track_p50_ns = 0, track_p99_ns = 0;  ///< Odometry::track
   std::uint64_t drops = 0;
-  double stream_s = 0;  ///< first to last frame stamp
+  double stream_s = 0;          ///< first to last frame stamp
   double real_time_factor = 0;  ///< stream_s / wall time from the first frame
-  std::string memory_lock;  ///< "applied", "refused", "not requested"
+  std::string memory_lock;      ///< "applied", "refused", "not requested"
   bool stopped_by_signal = false;
 };
 

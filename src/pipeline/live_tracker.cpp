@@ -29,7 +29,7 @@ PoseSample pose_sample(const TrackedFrame& f, std::uint64_t index, std::uint32_t
     const Eigen::Vector3d& v = odometry.inertial().velocity_w_mps();
     for (int i = 0; i < 3; ++i) p.v_w_mps[i] = v[i];
   }
-  p.source = index == 0          ? PoseSource::kInitial
+  p.source = index == 0         ? PoseSource::kInitial
              : f.pose_from_gicp ? PoseSource::kTracked
                                 : PoseSource::kImuPropagated;
   p.keyframe = f.keyframe;

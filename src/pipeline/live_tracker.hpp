@@ -41,9 +41,9 @@ namespace vigs::pipeline {
 /// One tracked frame as the main thread collects it.
 struct LiveFrameResult {
   TrackedFrame frame;
-  std::int64_t track_ns = 0;     ///< inside Odometry::track
+  std::int64_t track_ns = 0;      ///< inside Odometry::track
   std::int64_t done_mono_ns = 0;  ///< CLOCK_MONOTONIC when the pose was pushed
-  bool end_of_stream = false;    ///< the last element: nothing follows
+  bool end_of_stream = false;     ///< the last element: nothing follows
 };
 
 struct LiveTrackerSettings {
@@ -56,11 +56,11 @@ struct LiveTrackerSettings {
 
 struct LiveTrackerRings {
   rt::FramePool& pool;
-  rt::SpscRing<rt::FrameHandle>& frames;    ///< driver -> tracker; invalid handle = end
-  rt::SpscRing<ImuSample>& imu;             ///< driver -> tracker
-  rt::SpscRing<PoseSample>& poses;          ///< tracker -> publisher
-  rt::SpscRing<LiveFrameResult>& results;   ///< tracker -> main thread (trajectory, stats)
-  KeyframeHandoff* keyframes;               ///< tracker -> mapper; null: no mapping
+  rt::SpscRing<rt::FrameHandle>& frames;   ///< driver -> tracker; invalid handle = end
+  rt::SpscRing<ImuSample>& imu;            ///< driver -> tracker
+  rt::SpscRing<PoseSample>& poses;         ///< tracker -> publisher
+  rt::SpscRing<LiveFrameResult>& results;  ///< tracker -> main thread (trajectory, stats)
+  KeyframeHandoff* keyframes;              ///< tracker -> mapper; null: no mapping
 };
 
 struct LiveTrackerCounters {

@@ -65,7 +65,9 @@ PinholeCamera RecordingSource::first_camera(const std::string& path, std::int64_
   return *camera;
 }
 
-RecordingSource::~RecordingSource() { stop(); }
+RecordingSource::~RecordingSource() {
+  stop();
+}
 
 void RecordingSource::start() {
   thread_.emplace(s_.thread, [this](std::stop_token st) {
@@ -97,8 +99,8 @@ bool RecordingSource::push(const std::stop_token& stop, Pred&& try_once, const c
     if (stop.stop_requested()) return false;
     if (rt::monotonic_ns() > give_up)
       throw std::runtime_error(std::string("lockstep: the source waited ") +
-                               std::to_string(rt::ns_to_s(s_.wait_timeout_ns)) + " s for " +
-                               what + " (the tracker consumed nothing)");
+                               std::to_string(rt::ns_to_s(s_.wait_timeout_ns)) + " s for " + what +
+                               " (the tracker consumed nothing)");
     rt::sleep_until_ns(rt::monotonic_ns() + 100'000);
   }
   return true;
@@ -120,7 +122,8 @@ void RecordingSource::run(const std::stop_token& stop) {
     for (; next_imu < motion.imu.size() && motion.imu[next_imu].t_ns <= t_ns; ++next_imu) {
       const ImuSample& s = motion.imu[next_imu];
       pace(s.t_ns);
-      if (push(stop, [&] { return imu_.try_push(s); }, "the imu ring"))
+      if (push(
+              stop, [&] { return imu_.try_push(s); }, "the imu ring"))
         imu_out_.add();
       else
         imu_drops_.add();
@@ -129,14 +132,16 @@ void RecordingSource::run(const std::stop_token& stop) {
     if (rec.view.width_px != camera_.width_px || rec.view.height_px != camera_.height_px)
       throw RecordingError(s_.path + ": frame " + std::to_string(rec.index) + " changes size");
     rt::FrameHandle h;
-    if (!push(stop, [&] { return (h = pool_.acquire()).valid(); }, "a free frame pool slot")) {
+    if (!push(
+            stop, [&] { return (h = pool_.acquire()).valid(); }, "a free frame pool slot")) {
       frame_drops_.add();
       ++frames;
       return;
     }
     copy_into(rec.view, pool_.frame(h), s_.depth_scale_m);
     pool_.frame(h).sequence = rec.index;
-    if (push(stop, [&] { return frames_.try_push(h); }, "the frame ring")) {
+    if (push(
+            stop, [&] { return frames_.try_push(h); }, "the frame ring")) {
       frames_out_.add();
     } else {
       pool_.release(h);

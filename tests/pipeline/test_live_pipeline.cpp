@@ -7,9 +7,9 @@
 #include <signal.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <chrono>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -86,9 +86,9 @@ TEST_F(LivePipeline, RealTimeKeepsOrderAndCountsSkips) {
   const std::size_t n_recorded = replay_recording(recording(), cfg, {}).frames.size();
   ASSERT_GT(r.replay.frames.size(), 0u);
   // Every recorded frame was either tracked or counted as dropped or skipped.
-  EXPECT_EQ(r.replay.frames.size() + r.tracker.skipped + r.source.frame_drops +
-                r.tracker.waiting_imu,
-            n_recorded);
+  EXPECT_EQ(
+      r.replay.frames.size() + r.tracker.skipped + r.source.frame_drops + r.tracker.waiting_imu,
+      n_recorded);
   for (std::size_t i = 1; i < r.replay.frames.size(); ++i)
     ASSERT_GT(r.replay.frames[i].t_ns, r.replay.frames[i - 1].t_ns);
   // Paced by the stamps: it cannot run faster than the sequence.
