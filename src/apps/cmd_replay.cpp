@@ -26,6 +26,7 @@ struct ReplayArgs {
   std::string recording, out, config_file, guess, fusion, initial_pose = "gravity";
   std::int64_t frames = 0;
   int map_iterations = 0;
+  double map_budget_ms = 0.0;
   bool quiet = false, allow_truncated = false;
 };
 
@@ -61,6 +62,10 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--map-iterations", a.map_iterations,
                   "build map.ply: mapper iterations after every frame (0 = no map)")
       ->check(CLI::Range(0, 1000));
+  cmd->add_option("--map-budget-ms", a.map_budget_ms,
+                  "build map.ply with this mapper time budget per frame, ms (mapping.budget_ms; "
+                  "replaces --map-iterations; iteration count follows the wall clock)")
+      ->check(CLI::Range(0.0, 10000.0));
   cmd->add_flag("--allow-truncated", a.allow_truncated,
                 "replay the intact part of a damaged (truncated, corrupt) recording instead of "
                 "refusing it; stderr and stats.json input_damage say what was used");
@@ -84,6 +89,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                              ? pipeline::InitialPoseSource::ground_truth
                              : pipeline::InitialPoseSource::gravity;
       opt.map_iterations_per_frame = a.map_iterations;
+      opt.map_budget_ms = a.map_budget_ms;
       opt.allow_damaged = a.allow_truncated;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;

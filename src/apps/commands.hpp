@@ -26,5 +26,6 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code);
 void add_run_command(CLI::App& app, ExitCode& exit_code);
 void add_echo_command(CLI::App& app, ExitCode& exit_code);
 void add_topics_command(CLI::App& app, ExitCode& exit_code);
+void add_import_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace vigs::apps

@@ -62,6 +62,10 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
     s["gaussians"] = r.map->size();
     s["map_iterations"] = r.map_iterations;
     s["map_ms_per_frame"] = n > 0 ? num(1e3 * r.map_s / frames) : io::Json(nullptr);
+    s["map_budget_ms"] = r.map_budget_ms > 0 ? num(r.map_budget_ms) : io::Json(nullptr);
+    s["map_budget_overruns"] = r.map_budget_overruns;
+    s["map_bytes_per_gaussian"] = num(r.map_bytes_per_gaussian);
+    s["map_gated_points"] = r.map_gated_points;
   }
   return s;
 }

@@ -1,35 +1,45 @@
 #pragma once
-// Insertion of keyframe points as new Gaussians. Each covariance is eigen-decomposed: the
-// eigenvectors (made a proper rotation, det +1) give the orientation and the square roots of
-// the eigenvalues the standard deviations, divided by max(1, 2 z^1.5) with z the point's depth
-// in metres, exactly as GS-ICP SLAM scales its GICP covariances before mapping. Initial opacity
-// is 0.1. A voxel-occupancy set skips points whose voxel already holds a Gaussian, so that
-// revisits do not grow the map without bound.
+// Insertion of keyframe points as new Gaussians, made to render the keyframe's own view before
+// any optimisation step ("view-gated" insertion):
+// - orientation from the point's covariance (kNN or image-grid): eigenvectors, made a proper
+//   rotation (det +1), largest axis first, so the third axis is the surface normal;
+// - scale covering the sample's footprint: a sample at depth z taken every sample_angle_rad
+//   stands for a patch d = max(z * sample_angle_rad, voxel) wide; the two in-plane standard
+//   deviations are cover * d, the first one stretched by the covariance's own in-plane
+//   anisotropy (a slanted surface's samples lie farther apart along the slant, at most 3x), the
+//   normal one the covariance's thickness, at most thin * d;
+// - opacity from depth confidence: opacity * exp(-0.5 (t / d)^2) with t the covariance's
+//   thickness (depth noise and non-planarity; an edge's straddling neighbours give a thick,
+//   uncertain patch), at least 0.05;
+// - colour from the pixel.
+// Without a sample angle (0) the GS-ICP SLAM rule is kept: standard deviations divided by
+// max(1, 2 z^1.5) and the flat opacity. A voxel-occupancy set skips points whose voxel already
+// holds a Gaussian, so that revisits do not grow the map without bound.
 #include <cstdint>
 #include <unordered_set>
 
+#include "core/config/mapping_components.hpp"
 #include "mapping/gaussian_map.hpp"
 #include "mapping/keyframe_gaussians.hpp"
 
 namespace vigs::mapping {
 
-struct InsertSettings {
-  double voxel_m = 0.02;
-  double opacity = 0.1;
-  double min_scale_m = 1e-4;
-};
+using config::InsertSettings;  // defaults: core/config/mapping_components.hpp
 
 class GaussianInserter {
  public:
   explicit GaussianInserter(InsertSettings s = {}) : s_(s) {}
 
-  /// Appends the keyframe's new Gaussians to `map`; returns how many were added.
-  std::size_t insert(GaussianMap& map, const KeyframeGaussians& kf);
+  /// Appends the keyframe's new Gaussians to `map`; returns how many were added. With `keep`
+  /// (one per point), points whose entry is 0 are skipped.
+  std::size_t insert(GaussianMap& map, const KeyframeGaussians& kf,
+                     const std::vector<char>* keep = nullptr);
 
   /// Rebuilds the occupancy from the map (after pruning or loading).
   void rebuild(const GaussianMap& map);
 
   [[nodiscard]] std::size_t occupied_voxels() const { return occupied_.size(); }
+  [[nodiscard]] const InsertSettings& settings() const { return s_; }
 
  private:
   [[nodiscard]] std::uint64_t key(const Eigen::Vector3d& p_w) const;
@@ -42,5 +52,10 @@ class GaussianInserter {
 /// rotation is proper (det +1).
 void covariance_to_rotation_scale(const Eigen::Matrix3d& cov, Eigen::Quaterniond& q,
                                   Eigen::Vector3d& std_dev);
+
+/// The initial standard deviations (largest first, metres) and opacity of a sample at depth
+/// z_m whose covariance has standard deviations `cov_sd` (largest first), under the rules above.
+void footprint_scale_opacity(const InsertSettings& s, double z_m, double sample_angle_rad,
+                             const Eigen::Vector3d& cov_sd, Eigen::Vector3d& sd, double& opacity);
 
 }  // namespace vigs::mapping

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "rt/clock.hpp"
 #include "rt/queue_policy.hpp"
 
 namespace vigs::mapping {
@@ -12,8 +13,10 @@ Mapper::Mapper(const config::MappingSettings& s, KeyframeRing& ring, rt::WorkerT
       ring_(ring),
       max_pending_(max_pending),
       max_keyframes_(std::max<std::size_t>(1, max_keyframes)),
-      inserter_(InsertSettings{s.insert_voxel_m, s.insert_opacity, s.min_scale_m}),
-      optimizer_(s, pool) {}
+      inserter_(s.insert),
+      optimizer_(s, pool),
+      now_ns_(&rt::monotonic_ns),
+      budget_ns_(static_cast<std::int64_t>(s.budget_ms * 1e6 + 0.5)) {}
 
 std::size_t Mapper::next_view() {
   if (newest_pending_) {
@@ -36,7 +39,26 @@ std::size_t Mapper::next_view() {
   return idx;
 }
 
+void Mapper::iterate_once() {
+  const MapperKeyframe& kf = *keyframes_[next_view()];
+  const TrainingView view{kf.camera, kf.rgb.data(),
+                          kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
+  std::size_t pruned = 0;
+  const auto terms = optimizer_.iterate(map_, view, &pruned);
+  if (pruned > 0) inserter_.rebuild(map_);
+  last_id_.store(kf.id);
+  last_loss_.store(terms.total);
+  iterations_.add(1);
+}
+
+bool Mapper::keep_iterating(int done, std::int64_t t0_ns, std::int64_t allowance_ns) {
+  if (budget_ns_ <= 0) return done < s_.iterations_per_tick;
+  return now_ns_() - t0_ns < allowance_ns;
+}
+
 void Mapper::tick() {
+  const std::int64_t t0_ns = now_ns_();
+  const std::int64_t allowance_ns = budget_ns_ + carry_ns_;
   // keyframes beyond the bound are skipped (oldest first) and counted
   rt::trim_oldest(ring_, max_pending_, skipped_);
   while (std::unique_ptr<MapperKeyframe>* front = ring_.front()) {
@@ -47,7 +69,15 @@ void Mapper::tick() {
       eos_.store(true);
       continue;
     }
-    inserter_.insert(map_, kf->gaussians);
+    const std::vector<char>* keep = nullptr;
+    if (map_.size() > 0 && kf->camera.width_px > 0) {
+      optimizer_.rasterizer().forward(map_, kf->camera, gate_render_);
+      const std::size_t kept =
+          gate_points(kf->gaussians, kf->camera, gate_render_, gate_, gate_keep_);
+      gated_.add(kf->gaussians.points_c.size() - kept);
+      keep = &gate_keep_;
+    }
+    inserter_.insert(map_, kf->gaussians, keep);
     kf->gaussians = KeyframeGaussians{};  // points are in the map now; keep only the view
     if (keyframes_.size() == max_keyframes_) keyframes_.erase(keyframes_.begin());
     keyframes_.push_back(std::move(kf));
@@ -56,20 +86,18 @@ void Mapper::tick() {
     ingested_.add(1);
   }
   if (!keyframes_.empty()) {
-    for (int it = 0; it < s_.iterations_per_tick; ++it) {
-      const MapperKeyframe& kf = *keyframes_[next_view()];
-      const TrainingView view{kf.camera, kf.rgb.data(),
-                              kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
-      std::size_t pruned = 0;
-      const auto terms = optimizer_.iterate(map_, view, &pruned);
-      if (pruned > 0) inserter_.rebuild(map_);
-      last_id_.store(kf.id);
-      last_loss_.store(terms.total);
-      iterations_.add(1);
-    }
+    for (int done = 0; keep_iterating(done, t0_ns, allowance_ns); ++done) iterate_once();
   }
   if (snapshot_requested_.exchange(false, std::memory_order_acq_rel))
     snapshot_.store(std::make_shared<const GaussianMap>(map_), std::memory_order_release);
+  const std::int64_t spent_ns = now_ns_() - t0_ns;
+  last_tick_ns_.store(spent_ns);
+  if (budget_ns_ > 0) {
+    // an overrun is paid back by the following ticks (it is under one iteration plus the
+    // insertion, since an iteration starts only while time is left); unused time is not saved
+    carry_ns_ = std::min<std::int64_t>(allowance_ns - spent_ns, 0);
+    if (spent_ns > allowance_ns) overruns_.add(1);
+  }
 }
 
 }  // namespace vigs::mapping

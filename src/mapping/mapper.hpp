@@ -3,6 +3,15 @@
 // run optimisation iterations, newest keyframe first, then rounds over a window of recent
 // keyframes plus a few random older ones. tick() is what the fixed-rate rt::PeriodicTask calls.
 //
+// Time budget (mapping.budget_ms > 0): a tick's insertion and iterations share the budget; an
+// iteration starts only while time is left, so a tick overruns by less than one iteration (plus
+// insertion), and an overrun is taken from the next tick's budget, so the average stays within
+// it. With budget_ms 0 a tick runs iterations_per_tick iterations. A budgeted replay is not
+// deterministic (the iteration count follows the wall clock).
+//
+// Insertion: a keyframe's points are first gated against a render of the map from the
+// keyframe's camera (insertion_gate.hpp: only where the map is missing or wrong), then inserted.
+//
 // Keyframe queue policy (see rt/spsc_ring.hpp): at most `max_pending` unprocessed keyframes are
 // kept; older extra ones are skipped and counted (skipped_keyframes). A keyframe with
 // end_of_stream set ends the stream; the mapper then keeps optimising until stopped.
@@ -11,12 +20,14 @@
 // mapper waits for.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <random>
 #include <vector>
 
 #include "core/config/mapping_settings.hpp"
 #include "mapping/insertion.hpp"
+#include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "rt/counters.hpp"
 #include "rt/spsc_ring.hpp"
@@ -40,9 +51,13 @@ class Mapper {
   Mapper(const config::MappingSettings& s, KeyframeRing& ring, rt::WorkerTeam* pool,
          std::size_t max_pending = 4, std::size_t max_keyframes = 32);
 
-  /// One mapper cycle: drain the ring, insert, iterations_per_tick iterations, publish a
-  /// snapshot when one was requested.
+  /// One mapper cycle: drain the ring, insert, iterations_per_tick iterations (or as many as
+  /// the budget allows), publish a snapshot when one was requested.
   void tick();
+
+  /// Replaces the clock the budget is measured with (default rt::monotonic_ns); for tests on a
+  /// simulated clock. Not while tick() runs.
+  void set_clock(std::function<std::int64_t()> now_ns) { now_ns_ = std::move(now_ns); }
 
   void request_snapshot() noexcept { snapshot_requested_.store(true, std::memory_order_release); }
   /// The latest published snapshot (null before the first); any thread.
@@ -51,15 +66,26 @@ class Mapper {
   }
 
   [[nodiscard]] const GaussianMap& map() const { return map_; }  ///< mapper thread only
+  /// Memory per Gaussian of the map and its optimiser (MapOptimizer::bytes_per_gaussian);
+  /// mapper thread only.
+  [[nodiscard]] double bytes_per_gaussian() const { return optimizer_.bytes_per_gaussian(map_); }
   [[nodiscard]] bool end_of_stream() const noexcept { return eos_.load(); }
   [[nodiscard]] std::uint64_t keyframes_ingested() const noexcept { return ingested_.get(); }
   [[nodiscard]] std::uint64_t skipped_keyframes() const noexcept { return skipped_.get(); }
   [[nodiscard]] std::uint64_t iterations() const noexcept { return iterations_.get(); }
   [[nodiscard]] std::uint64_t last_trained_id() const noexcept { return last_id_.load(); }
   [[nodiscard]] float last_loss() const noexcept { return last_loss_.load(); }
+  /// Duration of the last tick on the mapper's clock, ns.
+  [[nodiscard]] std::int64_t last_tick_ns() const noexcept { return last_tick_ns_.load(); }
+  /// Ticks that ended past their (carried) budget.
+  [[nodiscard]] std::uint64_t budget_overruns() const noexcept { return overruns_.get(); }
+  /// Keyframe points not inserted because the map already rendered them (insertion_gate.hpp).
+  [[nodiscard]] std::uint64_t gated_points() const noexcept { return gated_.get(); }
 
  private:
   std::size_t next_view();
+  void iterate_once();
+  [[nodiscard]] bool keep_iterating(int done, std::int64_t t0_ns, std::int64_t allowance_ns);
 
   config::MappingSettings s_;
   KeyframeRing& ring_;
@@ -76,7 +102,14 @@ class Mapper {
   std::atomic<bool> eos_{false};
   std::atomic<std::uint64_t> last_id_{0};
   std::atomic<float> last_loss_{0.0f};
-  rt::SingleWriterCounter ingested_, skipped_, iterations_;
+  std::atomic<std::int64_t> last_tick_ns_{0};
+  std::function<std::int64_t()> now_ns_;
+  std::int64_t budget_ns_ = 0;
+  GateSettings gate_;
+  RenderResult<float> gate_render_;
+  std::vector<char> gate_keep_;
+  std::int64_t carry_ns_ = 0;  ///< <= 0: overrun still to be taken from the next ticks
+  rt::SingleWriterCounter ingested_, skipped_, iterations_, overruns_, gated_;
 };
 
 }  // namespace vigs::mapping

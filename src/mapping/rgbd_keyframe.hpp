@@ -3,7 +3,7 @@
 // (`vigs map`, benchmarks): every `stride`-th pixel with valid depth is back-projected, and its
 // covariance is the sample covariance of the 3x3 grid of back-projected neighbours `stride`
 // pixels apart (an image-grid stand-in for the tracker's kNN covariances), skipping neighbours
-// across depth discontinuities.
+// across depth discontinuities. The colour is the patch's mean (footprint_colours).
 #include "core/types/image.hpp"
 #include "core/types/pinhole_camera.hpp"
 #include "core/types/rgbd_view.hpp"
@@ -27,5 +27,11 @@ KeyframeGaussians keyframe_from_rgbd(const PinholeCamera& cam, const RgbdView& f
 KeyframeGaussians keyframe_from_rgbd(const PinholeCamera& cam, const ImageU8& rgb,
                                      const ImageF32& depth_m, const Eigen::Isometry3d& T_w_c,
                                      const RgbdSampling& s = {});
+
+/// Recolours every point with the mean colour of the pixels within stride_px / 2 of the pixel
+/// it projects to whose depth is within max_relative_jump of the point's (a sample stands for
+/// its patch, so a point colour aliases the texture); points outside the image keep theirs.
+void footprint_colours(const PinholeCamera& cam, const RgbdView& frame, int stride_px,
+                       KeyframeGaussians& kf, double max_relative_jump = 0.1);
 
 }  // namespace vigs::mapping

@@ -4,9 +4,9 @@
 // KeyframeHandoff, turns each into a mapping::MapperKeyframe (its Gaussians from the tracker's
 // raw covariances, the frame as training view; this allocates, on the mapper thread), releases
 // the frame and the slot, and runs one mapping::Mapper tick of mapping.iterations_per_tick
-// optimisation iterations. The per-tick budget is that iteration count (a time budget,
-// mapping.budget_ms, is not in mapping::Mapper yet). The tracker never waits for it except in
-// lockstep, where a keyframe waits for a free slot.
+// optimisation iterations, or as many as mapping.budget_ms allows when it is > 0 (the
+// Mapper's budgeted tick). The tracker never waits for it except in lockstep, where a keyframe
+// waits for a free slot.
 #include <atomic>
 #include <cstdint>
 #include <memory>

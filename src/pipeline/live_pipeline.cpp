@@ -210,7 +210,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   ReplayResult& r = out.replay;
   r.counters = tracker.odometry_counters();
   r.camera = camera;
-  r.guess = tracking::initial_guess_from_string(cfg.tracking.initial_guess);
+  r.guess = cfg.tracking.initial_guess;
   (void)parse_fusion_mode(cfg.tracking.fusion, r.fusion);  // checked by the config loader
   r.initial_pose = tracker.initial_pose();
   r.wall_s = rt::ns_to_s(wall_ns);

@@ -118,8 +118,9 @@ bool LiveTracker::start_odometry(std::int64_t t_ns) {
     early_imu_.push_back(*s);
     r_.imu.pop();
   }
-  const bool imu_mode = s_.odometry.guess ? *s_.odometry.guess == tracking::InitialGuessMode::imu
-                                          : cfg_.tracking.initial_guess == "imu";
+  const bool imu_mode = s_.odometry.guess
+                            ? *s_.odometry.guess == tracking::InitialGuessMode::imu
+                            : cfg_.tracking.initial_guess == tracking::InitialGuessMode::imu;
   if (imu_mode && early_imu_.empty()) {
     const auto enough = [&] {
       while (early_imu_.size() < kInitSamples) {

@@ -2,26 +2,31 @@
 
 #include <algorithm>
 
+#include "mapping/rgbd_keyframe.hpp"
 #include "pipeline/tracking_keyframe.hpp"
 
 namespace vigs::pipeline {
 namespace {
 
-config::MappingSettings with_iterations(config::MappingSettings s, int iterations_per_frame) {
+config::MappingSettings with_schedule(config::MappingSettings s, int iterations_per_frame,
+                                      double budget_ms) {
   s.iterations_per_tick = std::max(1, iterations_per_frame);
+  s.budget_ms = budget_ms;  // the replay's flags choose the schedule, not the robot file
   return s;
 }
 
 }  // namespace
 
 LockstepMapper::LockstepMapper(const config::MappingSettings& s, const PinholeCamera& camera,
-                               int iterations_per_frame)
+                               int iterations_per_frame, double budget_ms, int tracker_pixel_stride)
     : camera_(camera),
+      stride_px_(std::max(1, tracker_pixel_stride)),
+      sample_angle_rad_(2.0 * stride_px_ / (camera.fx_px + camera.fy_px)),
       pool_(s.threads, rt::ThreadSpec{.name = "mapper_w1"}),
       ring_(8),
       // max_pending 4: a replay adds at most one keyframe per tick, so nothing is skipped.
-      mapper_(std::make_unique<mapping::Mapper>(with_iterations(s, iterations_per_frame), ring_,
-                                                &pool_)) {}
+      mapper_(std::make_unique<mapping::Mapper>(with_schedule(s, iterations_per_frame, budget_ms),
+                                                ring_, &pool_)) {}
 
 void LockstepMapper::add_keyframe(const tracking::Keyframe& kf, const RgbdView& frame) {
   ImageU8 rgb;
@@ -30,7 +35,8 @@ void LockstepMapper::add_keyframe(const tracking::Keyframe& kf, const RgbdView& 
   copy_depth_m(frame, depth_m);
   auto m = std::make_unique<mapping::MapperKeyframe>();
   m->id = next_id_++;
-  m->gaussians = to_keyframe_gaussians(kf);
+  m->gaussians = to_keyframe_gaussians(kf, sample_angle_rad_);
+  mapping::footprint_colours(camera_, frame, stride_px_, m->gaussians);
   m->camera = mapping::RenderCamera::from(camera_, kf.T_w_c);
   m->rgb.resize(rgb.data.size());
   for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;

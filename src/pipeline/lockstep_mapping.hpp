@@ -3,8 +3,9 @@
 // replay: each new tracking keyframe is handed over through the mapper's keyframe ring (its
 // Gaussians from the tracker's raw kNN covariances, as GS-ICP SLAM, and the frame as training
 // view), and after every frame the mapper runs one tick of `iterations_per_frame` optimisation
-// iterations over its window of recent keyframes. Offline and deterministic in its schedule;
-// not real time (a live mapper runs at its own rate on its own thread).
+// iterations over its window of recent keyframes, or as many as a time budget per frame allows
+// (mapping.budget_ms, see mapping/mapper.hpp). Offline and deterministic in its schedule with an
+// iteration count; not real time (a live mapper runs at its own rate on its own thread).
 #include <cstdint>
 #include <memory>
 
@@ -19,9 +20,11 @@ namespace vigs::pipeline {
 
 class LockstepMapper {
  public:
-  /// Rasterizer threads from s.threads; iterations_per_frame >= 1.
+  /// Rasterizer threads from s.threads; iterations_per_frame >= 1; budget_ms > 0 replaces
+  /// the count by a time budget per frame. tracker_pixel_stride: the stride the keyframes'
+  /// points were sampled at (their footprint at insertion).
   LockstepMapper(const config::MappingSettings& s, const PinholeCamera& camera,
-                 int iterations_per_frame);
+                 int iterations_per_frame, double budget_ms, int tracker_pixel_stride);
 
   /// Hands a keyframe to the mapper with `frame` as its training view (allocates: copies
   /// points and images; depth without a measurement becomes 0).
@@ -35,6 +38,8 @@ class LockstepMapper {
 
  private:
   PinholeCamera camera_;
+  int stride_px_;
+  double sample_angle_rad_;
   rt::WorkerTeam pool_;
   mapping::KeyframeRing ring_;
   std::unique_ptr<mapping::Mapper> mapper_;

@@ -104,8 +104,9 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
         throw RecordingError(path + ": no sensor_msgs/Imu messages on " + options.imu_topic +
                              " for the imu guess (use previous_pose or constant_velocity)");
       }
-      if (options.map_iterations_per_frame > 0)
-        mapper.emplace(cfg.mapping, rec.camera, options.map_iterations_per_frame);
+      if (options.map_budget_ms > 0.0 || options.map_iterations_per_frame > 0)
+        mapper.emplace(cfg.mapping, rec.camera, options.map_iterations_per_frame,
+                       options.map_budget_ms, cfg.tracking.preprocess.depth.pixel_stride);
       result.camera = rec.camera;
       result.guess = odometry->guess_mode();
       result.fusion = odometry->fusion_mode();
@@ -170,6 +171,10 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   if (mapper) {
     result.map = std::make_shared<const mapping::GaussianMap>(mapper->map());
     result.map_iterations = static_cast<long>(mapper->mapper().iterations());
+    result.map_budget_ms = options.map_budget_ms;
+    result.map_budget_overruns = mapper->mapper().budget_overruns();
+    result.map_bytes_per_gaussian = mapper->mapper().bytes_per_gaussian();
+    result.map_gated_points = mapper->mapper().gated_points();
   }
   result.wall_s = seconds_since(t0);
   return result;

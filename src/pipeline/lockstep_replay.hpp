@@ -61,6 +61,9 @@ struct ReplayOptions {
   /// > 0: build a Gaussian map in lockstep (lockstep_mapping.hpp) with this many mapper
   /// iterations after every frame; 0: no map.
   int map_iterations_per_frame = 0;
+  /// > 0: build the map with this mapper time budget per frame instead (mapping.budget_ms;
+  /// overrides map_iterations_per_frame; the iteration count then follows the wall clock).
+  double map_budget_ms = 0.0;
   std::string imu_topic{io::topics::kImu.name};
   std::string pose_topic{io::topics::kBodyPose.name};
   /// Replay the intact part of a damaged recording (ReplayResult::damage says what was found)
@@ -85,7 +88,11 @@ struct ReplayResult {
   /// The map after the last frame's mapper tick (null without mapping).
   std::shared_ptr<const mapping::GaussianMap> map;
   long map_iterations = 0;
-  double map_s = 0.0;  ///< inside the mapper
+  double map_s = 0.0;                     ///< inside the mapper
+  double map_budget_ms = 0.0;             ///< the mapper's budget per frame (0 = none)
+  std::uint64_t map_budget_overruns = 0;  ///< mapper ticks past their (carried) budget
+  double map_bytes_per_gaussian = 0.0;    ///< map + optimiser memory per Gaussian at the end
+  std::uint64_t map_gated_points = 0;     ///< keyframe points the map already rendered
 };
 
 /// Replays `path`. Throws RecordingError naming the file on a damaged or unusable recording

@@ -1,18 +1,23 @@
 #pragma once
 // Adapter from the tracker's keyframe (tracking/gaussian_cloud.hpp, a plain data header) to the
-// mapper's insertion input. The RAW kNN covariances are used, as GS-ICP SLAM does: scales from
-// the square roots of their eigenvalues (then divided by max(1, 2 z^1.5) at insertion), rotation
-// from their eigenvectors. In the pipeline, which joins the two, so that neither mapping nor
+// mapper's insertion input. The RAW kNN covariances are used: rotation from their
+// eigenvectors, and with a sample angle the footprint-sized scale and depth-confidence opacity
+// of mapping/insertion.hpp (without, GS-ICP SLAM's scales: square roots of the eigenvalues
+// divided by max(1, 2 z^1.5)). In the pipeline, which joins the two, so that neither mapping nor
 // tracking knows the other.
 #include "mapping/keyframe_gaussians.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
 namespace vigs::pipeline {
 
-/// Copies (allocates): call on the mapper side, not on the tracker thread.
-inline mapping::KeyframeGaussians to_keyframe_gaussians(const tracking::Keyframe& kf) {
+/// Copies (allocates): call on the mapper side, not on the tracker thread. `sample_angle_rad`
+/// is the tracker's pixel stride over the focal length (mapping/insertion.hpp: footprint-sized
+/// Gaussians); 0 keeps the GS-ICP SLAM scale rule.
+inline mapping::KeyframeGaussians to_keyframe_gaussians(const tracking::Keyframe& kf,
+                                                        double sample_angle_rad = 0.0) {
   mapping::KeyframeGaussians out;
   out.T_w_c = kf.T_w_c;
+  out.sample_angle_rad = sample_angle_rad;
   const tracking::GaussianCloud& c = kf.cloud_c;
   out.points_c = c.points_m;
   out.covariances_c = c.cov_raw_m2;

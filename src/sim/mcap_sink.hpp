@@ -1,16 +1,15 @@
 #pragma once
-// Writes the simulator's streams to one MCAP file as ROS 2 messages (CDR):
+// Writes the simulator's streams to one MCAP file as ROS 2 messages (CDR), through the
+// recording writer (io/recording/recording_writer.hpp):
 //   /vigs/camera_info             sensor_msgs/msg/CameraInfo  (with every frame)
 //   /vigs/rgb                     sensor_msgs/msg/Image rgb8 (mono8 with --gray)
 //   /vigs/depth                   sensor_msgs/msg/Image 16UC1 (mm) or 32FC1 (m)
 //   /vigs/imu                     sensor_msgs/msg/Imu, frame "body"
 //   /vigs/ground_truth/body_pose  geometry_msgs/msg/PoseStamped T_w_b, frame "world"
-#include <memory>
 #include <string>
-#include <vector>
 
 #include "core/config/imu_settings.hpp"
-#include "io/mcap/mcap_writer.hpp"
+#include "io/recording/recording_writer.hpp"
 #include "sim/sim_sink.hpp"
 
 namespace vigs::sim {
@@ -36,10 +35,7 @@ class McapSink : public SimSink {
 
  private:
   McapSinkOptions opt_;
-  std::string path_;
-  io::mcap::McapWriter writer_;
-  std::uint16_t ch_info_, ch_rgb_, ch_depth_, ch_imu_, ch_gt_;
-  std::vector<std::uint8_t> scratch_;
+  io::RecordingWriter writer_;
 };
 
 }  // namespace vigs::sim

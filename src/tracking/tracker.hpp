@@ -50,26 +50,14 @@ struct TrackingOutput {
 
 class Tracker {
  public:
-  struct Setting {
-    FramePreprocessor::Setting preprocess;
-    Gicp::Setting gicp;
-    LocalMap::Setting local_map;
-    KeyframePolicy::Setting keyframe;
-    InitialGuessMode initial_guess = InitialGuessMode::imu;
-    double min_inlier_ratio = 0.3;
-    double max_correction_m = 0.5;
-    double max_correction_rad = 30.0 * 3.14159265358979323846 / 180.0;
-    int preprocess_threads = 2;
+  /// preprocess, gicp, local_map, keyframe, initial_guess, min_inlier_ratio, max_correction_*,
+  /// gicp_variance_scale and moving_margin_m: config/tracking_components.hpp (the defaults)
+  /// and config/tracking_settings.hpp (the robot file's keys and docs).
+  struct Setting : config::TrackerSetting {
+    int preprocess_threads = gicp.num_threads;
     /// Member 1 of the tracker's worker team (more members: rt::worker_spec). Normal priority
     /// by default; the live pipeline passes the thread table's `tracker_w1` as rt: allows.
     rt::ThreadSpec worker{.name = "tracker_w1"};
-    /// The GICP cost's residuals are taken as this many times their modelled covariance
-    /// (dimensionless): metric information = GicpResult::information / gicp_variance_scale.
-    double gicp_variance_scale = 1.0;
-    /// Moving-point test at keyframes (see Keyframe::moving): a point is moving when it lies
-    /// more than this in front of the confirmed map's nearest surface along its pixel's ray.
-    /// 0 disables the test.
-    double moving_margin_m = 0.0;
   };
 
   Tracker(const PinholeCamera& camera, const Setting& setting,

@@ -19,6 +19,7 @@
 #include "io/ros_msgs/time_reference.hpp"
 #include "io/ros_msgs/typed_io.hpp"
 #include "record/recorder.hpp"
+#include "tests/common/cli_process.hpp"
 
 namespace vigs::drivers {
 namespace {
@@ -27,15 +28,7 @@ std::string temp_path(const std::string& name) {
   return ::testing::TempDir() + "/record_" + std::to_string(::getpid()) + "_" + name;
 }
 
-std::pair<std::string, int> run(const std::string& command) {
-  FILE* p = ::popen((command + " 2>&1").c_str(), "r");
-  if (p == nullptr) return {"popen failed", -1};
-  std::string out;
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p) != nullptr) out += buf;
-  const int status = ::pclose(p);
-  return {out, WIFEXITED(status) ? WEXITSTATUS(status) : -1};
-}
+using test_cli::run_output;
 
 std::uint64_t json_u64(const std::string& text, const std::string& key) {
   std::smatch m;
@@ -103,8 +96,8 @@ TEST(RecordCli, RecordsTheOniAndPtySourcesIntoAnMcapTheOfficialReaderOpens) {
   ASSERT_FALSE(pty.empty());
   const std::string robot = write_robot(clip, pty);
   const std::string out = temp_path("rec.mcap");
-  const auto [summary, status] =
-      run(std::string(VIGS_BIN) + " record --config " + robot + " --out " + out + " --seconds 6");
+  const auto [summary, status] = run_output(std::string(VIGS_BIN) + " record --config " + robot +
+                                            " --out " + out + " --seconds 6");
   char buf[4096];
   while (std::fgets(buf, sizeof buf, play) != nullptr) {
   }
@@ -125,7 +118,8 @@ TEST(RecordCli, RecordsTheOniAndPtySourcesIntoAnMcapTheOfficialReaderOpens) {
   EXPECT_NE(summary.find("\"camera_fault\": \"none\""), std::string::npos) << summary;
 
   // VIGS's own reader: every chunk CRC and message decodes, no issue.
-  const auto [info, info_status] = run(std::string(VIGS_BIN) + " mcap info " + out + " --decode");
+  const auto [info, info_status] =
+      run_output(std::string(VIGS_BIN) + " mcap info " + out + " --decode");
   EXPECT_EQ(info_status, 0) << info;
   EXPECT_NE(info.find("\"topic\": \"/vigs/imu/serial\", \"schema\": \"vigs_msgs/msg/SerialChunk\""),
             std::string::npos)
@@ -133,8 +127,8 @@ TEST(RecordCli, RecordsTheOniAndPtySourcesIntoAnMcapTheOfficialReaderOpens) {
 
   // The official TypeScript readers (indexed + stream, CRCs validated, ROS 2 decoders).
   if (std::system("command -v node >/dev/null 2>&1") != 0) GTEST_SKIP() << "node not installed";
-  const auto [ts, ts_status] =
-      run("node " + std::string(VIGS_SOURCE_DIR) + "/tests/conformance/summarize_mcap.mjs " + out);
+  const auto [ts, ts_status] = run_output("node " + std::string(VIGS_SOURCE_DIR) +
+                                          "/tests/conformance/summarize_mcap.mjs " + out);
   ASSERT_EQ(ts_status, 0) << ts;
   const std::regex rgb(
       R"("/vigs/rgb":\{"schema":"sensor_msgs/msg/Image","messages":(\d+),"first_log_time":"\d+","first":\{"width":64,"height":48,"encoding":"rgb8","bytes":9216,"data0":(\d+),"data1":(\d+)\})");
@@ -165,15 +159,16 @@ TEST(RecordCli, SigkillLeavesAFileReadableToItsLastChunk) {
   ASSERT_FALSE(pty.empty());
   const std::string robot = write_robot(clip, pty);
   const std::string out = temp_path("killed.mcap");
-  const auto [kill_out, kill_status] =
-      run("sh -c '" + std::string(VIGS_BIN) + " record --config " + robot + " --out " + out +
-          " --seconds 60 >/dev/null & pid=$!; sleep 3.2; kill -9 $pid; wait $pid; echo rc=$?'");
+  const auto [kill_out, kill_status] = run_output(
+      "sh -c '" + std::string(VIGS_BIN) + " record --config " + robot + " --out " + out +
+      " --seconds 60 >/dev/null & pid=$!; sleep 3.2; kill -9 $pid; wait $pid; echo rc=$?'");
   char buf[4096];
   while (std::fgets(buf, sizeof buf, play) != nullptr) {
   }
   ::pclose(play);
   EXPECT_NE(kill_out.find("rc=137"), std::string::npos) << kill_out;  // died by SIGKILL
-  const auto [info, info_status] = run(std::string(VIGS_BIN) + " mcap info " + out + " --decode");
+  const auto [info, info_status] =
+      run_output(std::string(VIGS_BIN) + " mcap info " + out + " --decode");
   EXPECT_EQ(info_status, 1) << info;  // damage reported ...
   EXPECT_NE(info.find("\"summary\": false"), std::string::npos) << info;
   // ... but every chunk before the kill is there: chunks close each second of log time.
@@ -247,8 +242,8 @@ TEST(Recorder, WritesEdgesSerialBytesAndImuAsTheirMessages) {
 TEST(RecordCli, TheRealsenseRobotFailsNamingItsMissingDeviceAndLeavesNoFile) {
   const std::string out = temp_path("rs.mcap");
   const auto [text, status] =
-      run(std::string(VIGS_BIN) + " record --config " + std::string(VIGS_SOURCE_DIR) +
-          "/firmware_config/robots/realsense_v4l2_gpio.yaml --out " + out + " --seconds 1");
+      run_output(std::string(VIGS_BIN) + " record --config " + std::string(VIGS_SOURCE_DIR) +
+                 "/firmware_config/robots/realsense_v4l2_gpio.yaml --out " + out + " --seconds 1");
   EXPECT_EQ(status, 1) << text;
   EXPECT_NE(text.find("GPIO line 17 of 'gpiochip0'"), std::string::npos) << text;
   EXPECT_NE(::access(out.c_str(), F_OK), 0) << "a failed start leaves no recording";
@@ -257,8 +252,8 @@ TEST(RecordCli, TheRealsenseRobotFailsNamingItsMissingDeviceAndLeavesNoFile) {
 TEST(RecordCli, NothingToRecordIsAnErrorNamingTheConfig) {
   const std::string robot = temp_path("empty.yaml");
   std::ofstream(robot) << "camera:\n  driver: replay\n";
-  const auto [out, status] =
-      run(std::string(VIGS_BIN) + " record --config " + robot + " --out " + temp_path("x.mcap"));
+  const auto [out, status] = run_output(std::string(VIGS_BIN) + " record --config " + robot +
+                                        " --out " + temp_path("x.mcap"));
   EXPECT_EQ(status, 1) << out;
   EXPECT_NE(out.find(robot + ": nothing to record"), std::string::npos) << out;
 }

