@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/replay_stats.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
@@ -28,70 +29,6 @@ struct ReplayArgs {
   double map_budget_ms = 0.0;
   bool quiet = false, allow_truncated = false;
 };
-
-/// What a replay of a damaged recording used, for stderr and stats.json.
-std::string used_of(const pipeline::ReplayResult& r) {
-  return std::to_string(r.frames.size()) + " frames" +
-         (r.frames.empty() ? std::string()
-                           : " up to t = " + std::to_string(r.frames.back().t_ns * 1e-9) + " s") +
-         " and " + std::to_string(r.imu_samples) + " IMU samples";
-}
-
-/// stats.json: the keys pipeline::RunStats reads plus the replay's own counters. Rates over no
-/// frames or no wall time are not defined and written as null.
-io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recording) {
-  const pipeline::OdometryCounters& c = r.counters;
-  const std::size_t n = r.frames.size();
-  const double frames = static_cast<double>(n);
-  const auto num = [](double v) { return io::rounded(v, 10); };
-  io::Json s;
-  s["recording"] = recording;
-  s["guess"] = std::string(pipeline::to_string(r.guess));
-  s["fusion"] = std::string(
-      r.guess == tracking::InitialGuessMode::imu ? pipeline::to_string(r.fusion) : "none");
-  s["initial_pose"] = std::string(pipeline::to_string(r.initial_pose));
-  s["frames"] = n;
-  s["wall_s"] = num(r.wall_s);
-  s["fps"] = r.wall_s > 0 ? num(frames / r.wall_s) : io::Json(nullptr);
-  s["track_ms_per_frame"] = n > 0 ? num(1e3 * r.track_s / frames) : io::Json(nullptr);
-  s["peak_rss_bytes"] = std::llround(pipeline::peak_rss_bytes());
-  std::vector<float> ms = r.track_ms;
-  const auto percentile = [&ms](double q) -> io::Json {
-    if (ms.empty()) return nullptr;
-    const auto k = static_cast<std::size_t>(q * static_cast<double>(ms.size() - 1) + 0.5);
-    std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(k), ms.end());
-    return io::rounded(static_cast<double>(ms[k]), 10);
-  };
-  s["track_ms_p50"] = percentile(0.5);
-  s["track_ms_p99"] = percentile(0.99);
-  s["tracked"] = c.tracked;
-  s["not_converged"] = c.not_converged;
-  s["degenerate"] = c.degenerate;
-  s["moving_points"] = c.moving_points;
-  s["fused_updates"] = c.fused_updates;
-  s["lost"] = c.lost;
-  s["lost_low_inliers"] = c.lost_low_inliers;
-  s["lost_diverged"] = c.lost_diverged;
-  s["lost_degenerate"] = c.lost_degenerate;
-  s["keyframes"] = c.keyframes;
-  s["imu_guesses"] = c.imu_guesses;
-  s["imu_unavailable"] = c.imu_unavailable;
-  s["imu_resets"] = c.imu_resets;
-  s["imu_samples"] = r.imu_samples;
-  s["imu_samples_fed"] = r.imu_samples_fed;
-  s["frames_without_depth"] = r.frames_without_depth;
-  s["input_damage"] = io::mcap::damage_object(r.damage, used_of(r));
-  if (r.map) {
-    s["gaussians"] = r.map->size();
-    s["map_iterations"] = r.map_iterations;
-    s["map_ms_per_frame"] = n > 0 ? num(1e3 * r.map_s / frames) : io::Json(nullptr);
-    s["map_budget_ms"] = r.map_budget_ms > 0 ? num(r.map_budget_ms) : io::Json(nullptr);
-    s["map_budget_overruns"] = r.map_budget_overruns;
-    s["map_bytes_per_gaussian"] = num(r.map_bytes_per_gaussian);
-    s["map_gated_points"] = r.map_gated_points;
-  }
-  return s;
-}
 
 }  // namespace
 

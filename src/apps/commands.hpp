@@ -23,6 +23,7 @@ void add_eval_image_command(CLI::App& app, ExitCode& exit_code);
 void add_render_command(CLI::App& app, ExitCode& exit_code);
 void add_map_command(CLI::App& app, ExitCode& exit_code);
 void add_replay_command(CLI::App& app, ExitCode& exit_code);
+void add_run_command(CLI::App& app, ExitCode& exit_code);
 void add_echo_command(CLI::App& app, ExitCode& exit_code);
 void add_topics_command(CLI::App& app, ExitCode& exit_code);
 void add_import_command(CLI::App& app, ExitCode& exit_code);

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   vigs::apps::add_render_command(app, exit_code);
   vigs::apps::add_map_command(app, exit_code);
   vigs::apps::add_replay_command(app, exit_code);
+  vigs::apps::add_run_command(app, exit_code);
   vigs::apps::add_echo_command(app, exit_code);
   vigs::apps::add_topics_command(app, exit_code);
   vigs::apps::add_import_command(app, exit_code);

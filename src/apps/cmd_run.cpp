@@ -1,0 +1,251 @@
+// `vigs run`: the live pipeline (pipeline/live_pipeline.hpp) -- sources -> rings -> fixed-rate
+// tracker and mapper -> DDS -- and its RESULTS_DIR (trajectory.tum, keyframes.txt, map.ply,
+// stats.json, report.md with plots).
+//  - no arguments: the main job on the built-in default. A short office sequence (the default
+//    robot's 720x480 camera at 20 Hz, IMU at 200 Hz, people walking) is simulated once and
+//    cached, then played into the rings in real time with mapping on and DDS on loopback;
+//  - --source replay:F.mcap: that recording instead; --lockstep: nothing drops, same result
+//    twice;
+//  - --source live (with --config ROBOT.yaml): the robot's OpenNI2 camera and serial IMU.
+// SIGINT / SIGTERM: the rings are drained and the RESULTS_DIR written whole (atomically), exit 0;
+// a second signal exits at once (what was already renamed into place stays complete).
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+#include "apps/commands.hpp"
+#include "apps/replay_stats.hpp"
+#include "core/config/default_config.hpp"
+#include "core/config/yaml_loader.hpp"
+#include "eval/report.hpp"
+#include "io/json_text.hpp"
+#include "io/output_guard.hpp"
+#include "pipeline/live_pipeline.hpp"
+#include "pipeline/results_writer.hpp"
+#include "sim/mcap_sink.hpp"
+#include "sim/simulator.hpp"
+
+namespace vigs::apps {
+namespace {
+
+std::atomic<int> g_run_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+extern "C" void on_run_stop_signal(int sig) {
+  // The first signal asks for a drain-and-save; a second one exits at once.
+  if (g_run_signal.exchange(sig, std::memory_order_relaxed) != 0) ::_exit(128 + sig);
+}
+
+struct RunArgs {
+  std::string source = "default", config_file, out = "results";
+  bool lockstep = false, no_map = false, quiet = false, no_report = false;
+  std::int64_t frames = 0;
+  double seconds = 10.0;
+  int humans = 4;
+  int dds_domain = -1;
+  int wait_subscribers = 0;
+};
+
+/// The default sequence, simulated once into the cache folder ($VIGS_CACHE_DIR, else
+/// $XDG_CACHE_HOME/vigs, else ~/.cache/vigs). McapSink writes FILE.partial and renames it, so
+/// an interrupted simulation never leaves a cached file.
+std::string default_sequence(const config::RobotConfig& base, const RunArgs& a, bool quiet) {
+  std::filesystem::path dir;
+  if (const char* d = std::getenv("VIGS_CACHE_DIR"); d != nullptr && *d != '\0') {
+    dir = d;
+  } else if (const char* x = std::getenv("XDG_CACHE_HOME"); x != nullptr && *x != '\0') {
+    dir = std::filesystem::path(x) / "vigs";
+  } else if (const char* h = std::getenv("HOME"); h != nullptr && *h != '\0') {
+    dir = std::filesystem::path(h) / ".cache" / "vigs";
+  } else {
+    dir = std::filesystem::temp_directory_path() / "vigs-cache";
+  }
+  std::filesystem::create_directories(dir);
+  config::RobotConfig cfg = base;
+  cfg.sim.seconds = a.seconds;
+  cfg.sim.humans = a.humans;
+  const std::string path =
+      (dir / ("office_" + std::to_string(cfg.camera.width_px) + "x" +
+              std::to_string(cfg.camera.height_px) + "_" + std::to_string(a.humans) + "p_" +
+              std::to_string(static_cast<long>(a.seconds * 1000)) + "ms_seed" +
+              std::to_string(cfg.sim.seed) + ".mcap"))
+          .string();
+  if (std::filesystem::exists(path)) return path;
+  if (!quiet)
+    std::fprintf(stderr,
+                 "vigs run: simulating the default office sequence (%.0f s, %d people) "
+                 "once -> %s\n",
+                 a.seconds, a.humans, path.c_str());
+  sim::Simulator simulator(cfg);
+  sim::McapSinkOptions opt;
+  opt.depth_encoding = cfg.sim.depth_encoding;
+  opt.depth_scale_m = cfg.camera.depth_scale_m;
+  opt.imu = cfg.imu;
+  sim::McapSink sink(path, opt);
+  const sim::SimStats st = simulator.run(sink, {}, nullptr);
+  sink.close();
+  (void)st;
+  return path;
+}
+
+io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
+                    const std::string& mode) {
+  io::Json s = stats_json(r.replay, recording);
+  const auto ms = [](std::int64_t ns) { return io::rounded(static_cast<double>(ns) * 1e-6, 10); };
+  s["mode"] = mode;
+  s["real_time_factor"] = io::rounded(r.real_time_factor, 10);
+  s["stream_s"] = io::rounded(r.stream_s, 10);
+  s["tracker_cycle_ms_p50"] = ms(r.cycle_p50_ns);
+  s["tracker_cycle_ms_p99"] = ms(r.cycle_p99_ns);
+  s["tracker_cycles"] = r.tracker_cycles;
+  s["tracker_overruns"] = r.tracker_overruns;
+  s["tracker_missed_deadlines"] = r.tracker_missed;
+  s["frames_skipped"] = r.tracker.skipped;
+  s["frames_out_of_order"] = r.tracker.out_of_order;
+  s["frames_waiting_imu"] = r.tracker.waiting_imu;
+  s["imu_refused"] = r.tracker.imu_refused;
+  s["keyframes_dropped"] = r.tracker.keyframe_drops;
+  s["source_frame_drops"] = r.source.frame_drops;
+  s["source_imu_drops"] = r.source.imu_drops;
+  s["drops"] = r.drops;
+  s["poses_published"] = r.poses_published;
+  s["status_published"] = r.status_published;
+  s["memory_lock"] = r.memory_lock;
+  s["stopped_by_signal"] = r.stopped_by_signal;
+  return s;
+}
+
+int run_command(const RunArgs& a) {
+  const bool quiet = a.quiet;
+  const config::RobotConfig cfg =
+      a.config_file.empty() ? config::load_config_text(config::default_config_text(),
+                                                       std::string(config::kDefaultConfigName))
+                            : config::load_config_file(a.config_file);
+  pipeline::LiveOptions o;
+  o.config_path = a.config_file;
+  o.lockstep = a.lockstep;
+  o.mapping = !a.no_map;
+  o.max_frames = a.frames;
+  if (a.dds_domain >= 0) o.dds_domain = a.dds_domain;
+  o.stop = &g_run_signal;
+  o.wait_for_subscribers = a.wait_subscribers;
+  std::string mode;
+  if (a.source == "default") {
+    o.recording = default_sequence(cfg, a, quiet);
+    mode = "default";
+  } else if (a.source.rfind("replay:", 0) == 0) {
+    o.recording = a.source.substr(7);
+    if (o.recording.empty()) throw std::runtime_error("--source replay: needs a file");
+    mode = "replay";
+  } else if (a.source == "live") {
+    mode = "live";
+  } else {
+    throw std::runtime_error("--source must be default, live or replay:FILE.mcap, not '" +
+                             a.source + "'");
+  }
+  if (a.lockstep) mode += "+lockstep";
+  io::refuse_output_dir_over_inputs(a.out, {o.recording, a.config_file});
+
+  g_run_signal.store(0);
+  struct sigaction sa {};
+  sa.sa_handler = on_run_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+
+  const bool tty = !quiet && ::isatty(STDERR_FILENO) == 1;
+  const auto progress = [tty](const pipeline::LiveProgress& p) {
+    if (!tty) return;
+    const double rtf = p.elapsed_s > 0 ? p.stream_s / p.elapsed_s : 0;
+    std::fprintf(stderr,
+                 "\rframes %5llu  rtf %.2f  tracker p50 %.1f / p99 %.1f ms  drops %llu  "
+                 "gaussians %zu   ",
+                 static_cast<unsigned long long>(p.frames), rtf, p.track_p50_ns * 1e-6,
+                 p.track_p99_ns * 1e-6, static_cast<unsigned long long>(p.drops), p.gaussians);
+  };
+  const pipeline::LiveResult r = pipeline::run_live(cfg, o, progress);
+  if (tty) std::fputc('\n', stderr);
+  if (r.replay.frames.empty()) throw std::runtime_error("no frame was tracked");
+
+  const io::Json stats = live_stats(r, o.recording, mode);
+  pipeline::write_results_dir(a.out, r.replay, io::json_lines(stats) + "\n");
+  io::Json summary{{"out", a.out},
+                   {"mode", mode},
+                   {"frames", r.replay.frames.size()},
+                   {"real_time_factor", io::rounded(r.real_time_factor, 4)},
+                   {"tracker_cycle_ms_p99", io::rounded(r.cycle_p99_ns * 1e-6, 4)},
+                   {"track_ms_p99", io::rounded(r.track_p99_ns * 1e-6, 4)},
+                   {"drops", r.drops}};
+  if (!o.recording.empty() && !a.no_report) {
+    eval::ReportOptions ro;
+    ro.results_dir = a.out;
+    ro.gt_path = o.recording;
+    ro.T_b_c = sim::body_from_camera(cfg.extrinsics);
+    ro.render = false;  // PSNR/SSIM renders: `vigs eval run` on the folder
+    const eval::ReportResult rep = eval::write_report(ro);
+    for (const auto& w : rep.warnings) std::cerr << "vigs run: " << w << "\n";
+    summary["ate_rmse_m"] = io::rounded(rep.ate.stats.rmse, 4);
+  }
+  std::printf("%s\n", io::json_line(summary).c_str());
+  if (!quiet) {
+    std::fprintf(
+        stderr,
+        "vigs run: %zu frames, real-time factor %.2f, tracker p99 %.1f ms, "
+        "drops %llu%s -> %s\n",
+        r.replay.frames.size(), r.real_time_factor, r.cycle_p99_ns * 1e-6,
+        static_cast<unsigned long long>(r.drops),
+        summary.contains("ate_rmse_m")
+            ? (", ATE " + std::to_string(summary["ate_rmse_m"].get<double>()) + " m").c_str()
+            : "",
+        a.out.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, ExitCode& exit_code) {
+  auto* cmd = app.add_subcommand(
+      "run",
+      "The live pipeline: sources -> rings -> tracker and mapper tasks -> DDS; writes a "
+      "RESULTS_DIR. Without arguments: a cached simulated office sequence in real time");
+  static RunArgs a;
+  cmd->add_option("--source", a.source,
+                  "default (simulated office, cached), live (the robot's sensors), or "
+                  "replay:FILE.mcap");
+  cmd->add_option("--config", a.config_file, "robot YAML (default: built-in)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", a.out, "RESULTS_DIR to write (default: results)");
+  cmd->add_flag("--lockstep", a.lockstep,
+                "each stage waits for the next: nothing drops, two runs give the same "
+                "trajectory (needs a recording)");
+  cmd->add_flag("--no-map", a.no_map, "no mapper task");
+  cmd->add_option("--frames", a.frames, "recording: only the first N frames (0 = all)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seconds", a.seconds, "default sequence length, s")
+      ->check(CLI::Range(1.0, 600.0));
+  cmd->add_option("--humans", a.humans, "default sequence: walking people")
+      ->check(CLI::Range(0, 60));
+  cmd->add_option("--dds-domain", a.dds_domain, "override dds.domain_id")
+      ->check(CLI::Range(0, 232));
+  cmd->add_option("--wait-subscribers", a.wait_subscribers,
+                  "start the sources once this many pose subscribers matched (30 s at most)")
+      ->check(CLI::Range(0, 100));
+  cmd->add_flag("--no-report", a.no_report, "skip report.md (ATE, plots)");
+  cmd->add_flag("--quiet", a.quiet, "no progress on stderr");
+  cmd->callback([&exit_code] {
+    try {
+      exit_code.value = run_command(a);
+    } catch (const std::exception& e) {
+      std::cerr << "vigs run: " << e.what() << "\n";
+      exit_code.value = 1;
+    }
+  });
+}
+
+}  // namespace vigs::apps

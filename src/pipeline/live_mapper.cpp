@@ -1,0 +1,57 @@
+#include "pipeline/live_mapper.hpp"
+
+#include "core/types/image.hpp"
+#include "pipeline/pool_frame_view.hpp"
+#include "pipeline/tracking_keyframe.hpp"
+#include "rt/clock.hpp"
+
+namespace vigs::pipeline {
+
+LiveMapper::LiveMapper(const config::MappingSettings& s, const PinholeCamera& camera,
+                       float depth_scale_m, rt::FramePool& pool, KeyframeHandoff& handoff,
+                       const rt::ThreadSpec& worker_spec)
+    : camera_(camera),
+      depth_scale_m_(depth_scale_m),
+      pool_(pool),
+      handoff_(handoff),
+      team_(s.threads, worker_spec),
+      ring_(2 * handoff.capacity()),
+      // max_pending = the handoff's slots: the bound is the handoff's, nothing more is skipped.
+      mapper_(std::make_unique<mapping::Mapper>(s, ring_, &team_, handoff.capacity())) {}
+
+void LiveMapper::tick() {
+  const std::int64_t t0 = rt::monotonic_ns();
+  std::uint32_t index = 0;
+  // At most one slot's worth per tick, so ring_ (twice the slots) never fills.
+  for (std::size_t n = 0; n < handoff_.capacity() && !ended() && handoff_.next(index); ++n) {
+    if (index == KeyframeHandoff::kEnd) {
+      ended_.store(true, std::memory_order_release);
+      break;
+    }
+    KeyframeSlot& slot = handoff_.slot(index);
+    const RgbdView view =
+        pool_frame_view(pool_.frame(slot.frame), pool_.settings(), depth_scale_m_);
+    ImageU8 rgb;
+    ImageF32 depth_m;
+    copy_rgb8(view, rgb);
+    copy_depth_m(view, depth_m);
+    auto m = std::make_unique<mapping::MapperKeyframe>();
+    m->id = next_id_++;
+    m->gaussians = to_keyframe_gaussians(slot.keyframe);
+    m->camera = mapping::RenderCamera::from(camera_, slot.keyframe.T_w_c);
+    m->rgb.resize(rgb.data.size());
+    for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;
+    m->depth_m = std::move(depth_m.data);
+    pool_.release(slot.frame);
+    slot.frame = rt::FrameHandle{};
+    handoff_.give_back(index);
+    // The ring holds twice the slots and is drained by every Mapper::tick below.
+    (void)ring_.try_push(std::move(m));
+  }
+  mapper_->tick();
+  gaussians_.store(mapper_->map().size(), std::memory_order_relaxed);
+  busy_ns_.store(busy_ns_.load(std::memory_order_relaxed) + rt::monotonic_ns() - t0,
+                 std::memory_order_relaxed);
+}
+
+}  // namespace vigs::pipeline

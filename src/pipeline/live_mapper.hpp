@@ -1,0 +1,54 @@
+#pragma once
+// LiveMapper: the body of the live pipeline's `mapper` task (rt::PeriodicTask at
+// mapping.rate_hz, SCHED_OTHER). Each tick takes the keyframes the tracker queued in the
+// KeyframeHandoff, turns each into a mapping::MapperKeyframe (its Gaussians from the tracker's
+// raw covariances, the frame as training view; this allocates, on the mapper thread), releases
+// the frame and the slot, and runs one mapping::Mapper tick of mapping.iterations_per_tick
+// optimisation iterations, or as many as mapping.budget_ms allows when it is > 0 (the
+// Mapper's budgeted tick). The tracker never waits for it except in lockstep, where a keyframe
+// waits for a free slot.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+
+#include "core/config/mapping_settings.hpp"
+#include "core/types/pinhole_camera.hpp"
+#include "mapping/mapper.hpp"
+#include "pipeline/keyframe_handoff.hpp"
+#include "rt/frame_pool.hpp"
+#include "rt/worker_team.hpp"
+
+namespace vigs::pipeline {
+
+class LiveMapper {
+ public:
+  /// `worker_spec`: the thread table's mapper_w1 with the rt policy applied.
+  LiveMapper(const config::MappingSettings& s, const PinholeCamera& camera, float depth_scale_m,
+             rt::FramePool& pool, KeyframeHandoff& handoff, const rt::ThreadSpec& worker_spec);
+
+  /// The task body (mapper thread only).
+  void tick();
+
+  /// The tracker's end marker arrived (every keyframe is in the map).
+  [[nodiscard]] bool ended() const noexcept { return ended_.load(std::memory_order_acquire); }
+  /// Mapper thread, or any thread once the task stopped.
+  [[nodiscard]] const mapping::Mapper& mapper() const { return *mapper_; }
+  [[nodiscard]] std::int64_t busy_ns() const noexcept { return busy_ns_.load(); }
+  /// Gaussians in the map after the last tick (any thread).
+  [[nodiscard]] std::size_t gaussians() const noexcept { return gaussians_.load(); }
+
+ private:
+  PinholeCamera camera_;
+  float depth_scale_m_;
+  rt::FramePool& pool_;
+  KeyframeHandoff& handoff_;
+  rt::WorkerTeam team_;
+  mapping::KeyframeRing ring_;
+  std::unique_ptr<mapping::Mapper> mapper_;
+  std::uint64_t next_id_ = 0;
+  std::atomic<bool> ended_{false};
+  std::atomic<std::int64_t> busy_ns_{0};
+  std::atomic<std::size_t> gaussians_{0};
+};
+
+}  // namespace vigs::pipeline

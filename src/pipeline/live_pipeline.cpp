@@ -1,0 +1,256 @@
+// The live pipeline's spine (see live_pipeline.hpp): build, start, run, drain, join.
+#include "pipeline/live_pipeline.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "dds/dds_config.hpp"
+#include "dds/pose_publisher.hpp"
+#include "drivers/openni2/openni2_driver.hpp"
+#include "drivers/serial_imu/serial_imu_driver.hpp"
+#include "pipeline/live_mapper.hpp"
+#include "pipeline/live_status.hpp"
+#include "rt/clock.hpp"
+#include "rt/periodic_task.hpp"
+
+namespace vigs::pipeline {
+namespace {
+
+constexpr std::size_t kKeyframeSlots = 2;
+constexpr std::size_t kPoseRing = 256;
+constexpr std::size_t kResultRing = 1024;
+
+rt::ThreadSpec table_spec(const char* name, const config::RtSettings& rt) {
+  return rt::apply_policy(rt::thread_spec(name), rt.realtime_priorities, rt.pin_cpus);
+}
+
+std::int64_t period_ns(double rate_hz) {
+  return std::llround(1e9 / rate_hz);
+}
+
+}  // namespace
+
+LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
+                    const std::function<void(const LiveProgress&)>& progress) {
+  const config::RtSettings& rtc = cfg.rt;
+  LiveResult out;
+
+  // 1. Memory: lock it (rt.lock_memory) before any pool or ring exists.
+  out.memory_lock = "not requested";
+  if (rtc.lock_memory) out.memory_lock = std::string(rt::to_string(rt::lock_memory().result));
+
+  // 2. Pool and rings, all allocated here.
+  // The camera: the recording's, or the robot's (camera.*).
+  PinholeCamera camera = o.recording.empty() ? PinholeCamera::from_settings(cfg.camera)
+                                             : RecordingSource::first_camera(o.recording);
+  const auto slots = static_cast<std::uint32_t>(rtc.frame_pool_slots);
+  const rt::FramePoolSettings pool_settings{.slots = slots,
+                                            .width = static_cast<std::uint32_t>(camera.width_px),
+                                            .height = static_cast<std::uint32_t>(camera.height_px),
+                                            .colour_channels = 3};
+  // Driver filling 1 + tracker 1 + keyframes in the mapper's hands: the rest may be queued.
+  const std::size_t reserved = 2 + (o.mapping ? kKeyframeSlots : 0);
+  if (slots < reserved + 1)
+    throw std::runtime_error("rt.frame_pool_slots " + std::to_string(slots) + " is below " +
+                             std::to_string(reserved + 1) + " (driver, tracker, keyframes, ring)");
+  rt::FramePool pool(pool_settings);
+  rt::SpscRing<rt::FrameHandle> frames(std::bit_floor(slots - reserved));
+  rt::SpscRing<ImuSample> imu(static_cast<std::size_t>(rtc.imu_ring_capacity));
+  rt::SpscRing<PoseSample> poses(kPoseRing);
+  rt::SpscRing<LiveFrameResult> results(kResultRing);
+  std::optional<KeyframeHandoff> handoff;
+  const float depth_scale_m = static_cast<float>(cfg.camera.depth_scale_m);
+
+  // 3. Sources: a recording played into the rings, or the robot's drivers.
+  std::unique_ptr<RecordingSource> recording;
+  std::unique_ptr<drivers::Openni2Driver> camera_driver;
+  std::unique_ptr<drivers::SerialImuDriver> imu_driver;
+  if (!o.recording.empty()) {
+    recording = std::make_unique<RecordingSource>(
+        RecordingSourceSettings{.path = o.recording,
+                                .lockstep = o.lockstep,
+                                .wait_timeout_ns = o.wait_timeout_ns,
+                                .depth_scale_m = depth_scale_m,
+                                .max_frames = o.max_frames,
+                                .thread = table_spec("rgbd_driver", rtc)},
+        pool, frames, imu);
+  } else {
+    if (o.lockstep) throw std::runtime_error("--lockstep needs a recording (--source replay:F)");
+    if (cfg.camera.driver != "openni2" || cfg.imu.driver != "serial")
+      throw std::runtime_error("live sensors need camera.driver openni2 and imu.driver serial");
+    camera_driver = std::make_unique<drivers::Openni2Driver>(
+        drivers::openni2_settings(cfg.camera, rtc), pool, frames);
+    imu_driver =
+        std::make_unique<drivers::SerialImuDriver>(drivers::serial_imu_settings(cfg.imu, rtc), imu);
+  }
+  if (o.mapping) handoff.emplace(kKeyframeSlots, camera.width_px * camera.height_px);
+
+  // 4. Stages: tracker, mapper, publisher.
+  LiveTrackerSettings ts;
+  ts.lockstep = o.lockstep;
+  ts.wait_timeout_ns = o.wait_timeout_ns;
+  ts.depth_scale_m = depth_scale_m;
+  ts.camera = camera;
+  LiveTracker tracker(cfg, ts, {pool, frames, imu, poses, results, handoff ? &*handoff : nullptr});
+  rt::ThreadSpec tracker_spec = table_spec("tracker", rtc);
+  tracker_spec.period_ns = o.lockstep ? rt::ms_to_ns(1) : period_ns(cfg.camera.rate_hz);
+  rt::PeriodicTask tracker_task(tracker_spec, [&tracker] { tracker.tick(); });
+
+  std::unique_ptr<LiveMapper> mapper;
+  std::unique_ptr<rt::PeriodicTask> mapper_task;
+  if (o.mapping) {
+    mapper = std::make_unique<LiveMapper>(cfg.mapping, camera, depth_scale_m, pool, *handoff,
+                                          table_spec("mapper_w1", rtc));
+    rt::ThreadSpec mapper_spec = table_spec("mapper", rtc);
+    mapper_spec.period_ns = period_ns(cfg.mapping.rate_hz);
+    mapper_task = std::make_unique<rt::PeriodicTask>(mapper_spec, [&m = *mapper] { m.tick(); });
+  }
+
+  dds::DdsConfig dds_config = dds::resolve_dds_config(cfg.dds, o.config_path);
+  if (o.dds_domain) dds_config.domain_id = *o.dds_domain;
+  dds::PosePublisher::StatusMailbox status(1);
+  dds::PosePublisher publisher(dds_config, poses, &status, cfg.robot);
+
+  if (o.wait_for_subscribers > 0) {  // readers of <prefix>/pose (odom and tf need not match)
+    const std::int64_t give_up = rt::monotonic_ns() + rt::s_to_ns(std::int64_t{30});
+    while (publisher.pose_subscribers() < o.wait_for_subscribers) {
+      if (rt::monotonic_ns() > give_up)
+        throw std::runtime_error("fewer than " + std::to_string(o.wait_for_subscribers) +
+                                 " pose subscribers on DDS domain " +
+                                 std::to_string(dds_config.domain_id) + " within 30 s");
+      rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(10));
+    }
+  }
+
+  // 5. Start: consumers first, sources last.
+  publisher.start();
+  if (mapper_task) mapper_task->start();
+  tracker_task.start();
+  if (recording) recording->start();
+  if (imu_driver) imu_driver->start();
+  if (camera_driver) camera_driver->start();
+
+  // 6. Run: collect results, status at 1 Hz, progress at 2 Hz, until the end or a stop.
+  const std::int64_t t_start = rt::monotonic_ns();
+  std::int64_t next_status = t_start, next_progress = t_start;
+  std::vector<float> track_ms;
+  bool ended = false;
+  LiveStatusSources status_sources{
+      &tracker_task, mapper_task.get(), &tracker, mapper.get(), &frames, &imu, &poses};
+  const auto drain = [&] {
+    LiveFrameResult r;
+    while (results.try_pop(r)) {
+      if (r.end_of_stream) {
+        ended = true;
+        continue;
+      }
+      out.replay.frames.push_back(r.frame);
+      track_ms.push_back(static_cast<float>(rt::ns_to_ms(r.track_ns)));
+    }
+  };
+  while (!ended) {
+    if (o.stop != nullptr && o.stop->load(std::memory_order_relaxed) != 0) {
+      out.stopped_by_signal = true;
+      break;
+    }
+    if (tracker.failed()) break;
+    drain();
+    const std::int64_t now = rt::monotonic_ns();
+    if (now >= next_status) {
+      status.push(make_status_snapshot(status_sources, now));
+      next_status = now + dds::PosePublisher::kStatusPeriodNs;
+    }
+    if (progress && now >= next_progress) {
+      LiveProgress p;
+      p.frames = out.replay.frames.size();
+      p.elapsed_s = rt::ns_to_s(now - t_start);
+      if (!out.replay.frames.empty())
+        p.stream_s = rt::ns_to_s(out.replay.frames.back().t_ns - out.replay.frames.front().t_ns);
+      p.track_p50_ns = tracker_task.cycle_time().p50();
+      p.track_p99_ns = tracker_task.cycle_time().p99();
+      p.drops =
+          total_drops(status_sources) +
+          (recording ? recording->counters().frame_drops + recording->counters().imu_drops : 0);
+      if (mapper) p.gaussians = mapper->gaussians();
+      progress(p);
+      next_progress = now + rt::ms_to_ns(500);
+    }
+    rt::sleep_until_ns(now + rt::ms_to_ns(5));
+  }
+
+  // 7. Drain and join: sources first, then the tracker (its last results), mapper, publisher.
+  if (camera_driver) camera_driver->stop();
+  if (imu_driver) imu_driver->stop();
+  if (recording) recording->stop();
+  tracker_task.stop();
+  drain();
+  if (mapper_task) {
+    // Give the mapper the keyframes already queued (it stops at the end marker or now).
+    const std::int64_t give_up = rt::monotonic_ns() + rt::s_to_ns(std::int64_t{10});
+    while (!out.stopped_by_signal && !mapper->ended() && !tracker.failed() &&
+           rt::monotonic_ns() < give_up)
+      rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(5));
+    mapper_task->stop();
+  }
+  publisher.stop();  // one last drain
+  if (publisher.enabled()) (void)publisher.wait_for_acknowledgments(std::chrono::seconds(2));
+  if (tracker.failed()) throw std::runtime_error(tracker.failure_message());
+  if (recording && !recording->error().empty()) throw std::runtime_error(recording->error());
+  {
+    rt::FrameHandle h;
+    while (frames.try_pop(h)) pool.release(h);
+  }
+
+  // 8. Results.
+  const std::int64_t wall_ns = rt::monotonic_ns() - t_start;
+  ReplayResult& r = out.replay;
+  r.counters = tracker.odometry_counters();
+  r.camera = camera;
+  r.guess = cfg.tracking.initial_guess;
+  (void)parse_fusion_mode(cfg.tracking.fusion, r.fusion);  // checked by the config loader
+  r.initial_pose = tracker.initial_pose();
+  r.wall_s = rt::ns_to_s(wall_ns);
+  r.track_ms = track_ms;
+  for (float ms : track_ms) r.track_s += ms * 1e-3;
+  out.tracker = tracker.counters();
+  r.imu_samples_fed = out.tracker.imu_samples;
+  if (recording) {
+    out.source = recording->counters();
+    r.imu_samples = out.source.imu_samples;
+  }
+  if (mapper) {
+    r.map = std::make_shared<const mapping::GaussianMap>(mapper->mapper().map());
+    r.map_iterations = static_cast<long>(mapper->mapper().iterations());
+    r.map_s = rt::ns_to_s(mapper->busy_ns());
+  }
+  const dds::PosePublisher::Stats ps = publisher.stats();
+  out.poses_published = ps.poses_published;
+  out.status_published = ps.status_published;
+  out.tracker_cycles = tracker_task.cycles();
+  out.tracker_overruns = tracker_task.overruns();
+  out.tracker_missed = tracker_task.missed_deadlines();
+  out.cycle_p50_ns = tracker_task.cycle_time().p50();
+  out.cycle_p99_ns = tracker_task.cycle_time().p99();
+  if (!track_ms.empty()) {
+    std::vector<float> ms = track_ms;
+    std::sort(ms.begin(), ms.end());
+    const auto at = [&ms](double q) {
+      return std::llround(1e6 * ms[static_cast<std::size_t>(q * (ms.size() - 1) + 0.5)]);
+    };
+    out.track_p50_ns = at(0.5);
+    out.track_p99_ns = at(0.99);
+  }
+  out.drops =
+      total_drops(status_sources) + (recording ? out.source.frame_drops + out.source.imu_drops : 0);
+  if (r.frames.size() >= 2) {
+    out.stream_s = rt::ns_to_s(r.frames.back().t_ns - r.frames.front().t_ns);
+    out.real_time_factor = r.wall_s > 0 ? out.stream_s / r.wall_s : 0;
+  }
+  return out;
+}
+
+}  // namespace vigs::pipeline

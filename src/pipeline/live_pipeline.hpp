@@ -1,0 +1,79 @@
+#pragma once
+// The live pipeline, `vigs run`: driver threads -> lock-free rings -> fixed-rate tracker and
+// mapper tasks -> DDS publisher. live_pipeline.cpp is the spine: read it top to bottom.
+//
+// Threads (rt/thread_table.hpp, with rt.realtime_priorities / rt.pin_cpus applied):
+//   rgbd_driver, imu_driver  the sources: the robot's OpenNI2 camera and serial IMU, or an MCAP
+//                            recording played into the same rings (RecordingSource)
+//   tracker (+ tracker_w1)   LiveTracker at camera.rate_hz (lockstep: every 1 ms, all frames)
+//   mapper (+ mapper_w1)     LiveMapper at mapping.rate_hz (when mapping)
+//   dds_pub                  dds::PosePublisher draining the pose ring; status at 1 Hz
+//   the calling thread       collects results, fills the status mailbox, progress, stop
+// gpio_trigger and recorder belong to `vigs record` (and are not started here).
+// Rings: frames (FramePool handles; capacity the largest power of two <= rt.frame_pool_slots
+// - 4, so a slot is always left for the driver, the tracker and the mapper's keyframes), IMU
+// (rt.imu_ring_capacity), poses (256), results (1024), keyframes (KeyframeHandoff, 2 slots).
+// Lockstep: nothing drops; every producer waits for its consumer (bounded by wait_timeout_ns,
+// then the run fails with a message naming the stage); two runs give the same trajectory.
+// Stop: the source's end of stream (an invalid frame handle) flows through the tracker (which
+// then queues the end marker for the mapper and the main thread), or `stop` becomes non-zero
+// (SIGINT/SIGTERM): the sources stop, the rings are drained, the tasks joined.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "core/config/robot_config.hpp"
+#include "pipeline/live_tracker.hpp"
+#include "pipeline/lockstep_replay.hpp"
+#include "pipeline/recording_source.hpp"
+
+namespace vigs::pipeline {
+
+struct LiveOptions {
+  std::string recording;    ///< MCAP played into the rings; empty: the robot's live sensors
+  std::string config_path;  ///< for dds.qos_profiles; empty: the built-in configuration
+  bool lockstep = false;
+  bool mapping = true;
+  std::int64_t max_frames = 0;  ///< recording: 0 = all
+  std::int64_t wait_timeout_ns = 30'000'000'000;
+  std::optional<int> dds_domain;           ///< overrides dds.domain_id (tests)
+  const std::atomic<int>* stop = nullptr;  ///< non-zero: stop (a signal handler's flag)
+  /// Before the sources start, wait (up to 30 s, else throw) for this many pose subscribers.
+  int wait_for_subscribers = 0;
+};
+
+struct LiveProgress {
+  std::uint64_t frames = 0;
+  double elapsed_s = 0;
+  double stream_s = 0;  ///< sensor time covered
+  std::int64_t track_p50_ns = 0, track_p99_ns = 0;
+  std::uint64_t drops = 0;  ///< every ring and pool drop
+  std::size_t gaussians = 0;
+  double total_stream_s = 0;  ///< recording length (0 live)
+};
+
+struct LiveResult {
+  ReplayResult replay;  ///< frames, counters, camera, map (for the RESULTS_DIR writer)
+  LiveTrackerCounters tracker;
+  RecordingSourceCounters source;
+  std::uint64_t poses_published = 0;
+  std::uint64_t status_published = 0;
+  std::uint64_t tracker_cycles = 0, tracker_overruns = 0, tracker_missed = 0;
+  std::int64_t cycle_p50_ns = 0, cycle_p99_ns = 0;  ///< tracker task body
+  std::int64_t track_p50_ns = 0, track_p99_ns = 0;  ///< Odometry::track
+  std::uint64_t drops = 0;
+  double stream_s = 0;          ///< first to last frame stamp
+  double real_time_factor = 0;  ///< stream_s / wall time from the first frame
+  std::string memory_lock;      ///< "applied", "refused", "not requested"
+  bool stopped_by_signal = false;
+};
+
+/// Runs the pipeline until the stream ends or *options.stop. `progress` (optional) is called
+/// about twice a second from the calling thread. Throws std::runtime_error naming the stage or
+/// file on failure (a lockstep wait that timed out, an unreadable recording, a device).
+LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& options,
+                    const std::function<void(const LiveProgress&)>& progress = {});
+
+}  // namespace vigs::pipeline

@@ -1,0 +1,236 @@
+#include "pipeline/live_tracker.hpp"
+
+#include <cstdio>
+#include <cstring>
+
+#include "pipeline/pool_frame_view.hpp"
+#include "rt/clock.hpp"
+
+namespace vigs::pipeline {
+namespace {
+
+constexpr std::size_t kEarlyImuSamples = 4096;  // IMU samples kept before the first frame
+constexpr std::size_t kInitSamples = 20;        // without samples before it: the next 20
+
+PoseSample pose_sample(const TrackedFrame& f, std::uint64_t index, std::uint32_t flags,
+                       const Odometry& odometry) {
+  PoseSample p;
+  p.t_ns = f.t_ns;
+  p.frame_index = index;
+  const Eigen::Vector3d t = f.T_w_c.translation();
+  const Eigen::Quaterniond q(f.T_w_c.rotation());
+  for (int i = 0; i < 3; ++i) p.p_w_m[i] = t[i];
+  p.q_w_xyzw[0] = q.x();
+  p.q_w_xyzw[1] = q.y();
+  p.q_w_xyzw[2] = q.z();
+  p.q_w_xyzw[3] = q.w();
+  if (f.covariance_valid) std::memcpy(p.covariance, f.covariance, sizeof(p.covariance));
+  if (odometry.guess_mode() == tracking::InitialGuessMode::imu) {
+    const Eigen::Vector3d& v = odometry.inertial().velocity_w_mps();
+    for (int i = 0; i < 3; ++i) p.v_w_mps[i] = v[i];
+  }
+  p.source = index == 0         ? PoseSource::kInitial
+             : f.pose_from_gicp ? PoseSource::kTracked
+                                : PoseSource::kImuPropagated;
+  p.keyframe = f.keyframe;
+  p.flags = flags | (f.degenerate ? kPoseFlagDegenerate : 0u);
+  return p;
+}
+
+}  // namespace
+
+LiveTracker::LiveTracker(const config::RobotConfig& cfg, const LiveTrackerSettings& settings,
+                         const LiveTrackerRings& rings)
+    : cfg_(cfg), s_(settings), r_(rings) {
+  early_imu_.reserve(kEarlyImuSamples);
+}
+
+template <class Pred>
+bool LiveTracker::wait(Pred&& ready, const char* what) noexcept {
+  if (ready()) return true;
+  if (!s_.lockstep) return false;
+  const std::int64_t give_up = rt::monotonic_ns() + s_.wait_timeout_ns;
+  while (!ready()) {
+    if (rt::monotonic_ns() > give_up) {
+      std::snprintf(failure_, sizeof(failure_),
+                    "lockstep: the tracker waited %.1f s for %s (nothing moved)",
+                    rt::ns_to_s(s_.wait_timeout_ns), what);
+      failed_.store(true, std::memory_order_release);
+      return false;
+    }
+    rt::sleep_until_ns(rt::monotonic_ns() + 100'000);
+  }
+  return true;
+}
+
+bool LiveTracker::take_frame(rt::FrameHandle& h) noexcept {
+  if (end_pending_) {  // the frame before the end marker was tracked last tick
+    h = rt::FrameHandle{};
+    return true;
+  }
+  if (s_.lockstep) return r_.frames.try_pop(h);
+  if (!r_.frames.try_pop(h)) return false;
+  rt::FrameHandle newer;
+  // Skip to the newest frame. The end marker ends the skipping: the frame before it is tracked.
+  while (h.valid() && r_.frames.try_pop(newer)) {
+    if (!newer.valid()) {
+      end_pending_ = true;
+      break;
+    }
+    r_.pool.release(h);
+    skipped_.add();
+    pending_flags_ |= kPoseFlagFramesSkipped;
+    h = newer;
+  }
+  return true;
+}
+
+void LiveTracker::tick() {
+  if (done() || failed()) return;
+  rt::FrameHandle h;
+  while (take_frame(h)) {
+    if (!h.valid()) {
+      finish();
+      return;
+    }
+    process(h);
+    if (failed() || !s_.lockstep) return;
+  }
+}
+
+void LiveTracker::feed_imu(std::int64_t t_ns) noexcept {
+  for (; early_fed_ < early_imu_.size() && early_imu_[early_fed_].t_ns <= t_ns; ++early_fed_) {
+    imu_samples_.add();
+    if (!odometry_->add_imu(early_imu_[early_fed_])) imu_refused_.add();
+  }
+  while (const ImuSample* s = r_.imu.front()) {
+    if (s->t_ns > t_ns) break;
+    imu_samples_.add();
+    if (!odometry_->add_imu(*s)) imu_refused_.add();
+    r_.imu.pop();
+  }
+}
+
+bool LiveTracker::start_odometry(std::int64_t t_ns) {
+  // Gather samples up to the frame; with none there, wait (lockstep) for the first 20 after it.
+  while (const ImuSample* s = r_.imu.front()) {
+    if (s->t_ns > t_ns || early_imu_.size() == early_imu_.capacity()) break;
+    early_imu_.push_back(*s);
+    r_.imu.pop();
+  }
+  const bool imu_mode = s_.odometry.guess
+                            ? *s_.odometry.guess == tracking::InitialGuessMode::imu
+                            : cfg_.tracking.initial_guess == tracking::InitialGuessMode::imu;
+  if (imu_mode && early_imu_.empty()) {
+    const auto enough = [&] {
+      while (early_imu_.size() < kInitSamples) {
+        ImuSample s;
+        if (!r_.imu.try_pop(s)) return false;
+        early_imu_.push_back(s);
+      }
+      return true;
+    };
+    if (!wait(enough, "the first IMU samples (imu ring)")) return false;
+  }
+  RecordedMotion motion;
+  motion.imu = early_imu_;
+  OdometryOptions opt = s_.odometry;
+  if (!opt.initial_T_w_c)
+    opt.initial_T_w_c =
+        initial_camera_pose(motion, t_ns, cfg_, initial_pose_, InitialPoseSource::gravity);
+  odometry_.emplace(cfg_, s_.camera, opt);
+  return true;
+}
+
+void LiveTracker::process(rt::FrameHandle h) noexcept {
+  const rt::Frame& frame = r_.pool.frame(h);
+  const std::int64_t t_ns = frame.t_ns;
+  if (t_ns <= last_t_ns_) {
+    r_.pool.release(h);
+    out_of_order_.add();
+    pending_flags_ |= kPoseFlagOutOfOrder;
+    return;
+  }
+  try {
+    if (!odometry_ && !start_odometry(t_ns)) {
+      r_.pool.release(h);
+      if (!failed()) waiting_imu_.add();
+      return;
+    }
+  } catch (...) {  // start-up only: an Odometry that cannot be built is a configuration error
+    std::snprintf(failure_, sizeof(failure_), "the tracker could not start its odometry");
+    failed_.store(true, std::memory_order_release);
+    r_.pool.release(h);
+    return;
+  }
+  last_t_ns_ = t_ns;
+  feed_imu(t_ns);
+  const RgbdView view = pool_frame_view(frame, r_.pool.settings(), s_.depth_scale_m);
+  const std::int64_t t0 = rt::monotonic_ns();
+  const TrackedFrame f = odometry_->track(view);
+  const std::int64_t t1 = rt::monotonic_ns();
+  std::uint32_t flags = pending_flags_;
+  pending_flags_ = 0;
+  if (odometry_->guess_mode() == tracking::InitialGuessMode::imu && !f.imu_guess &&
+      frame_index_ > 0) {
+    flags |= kPoseFlagImuUnavailable;
+    imu_unavailable_.add();
+  }
+  const PoseSample pose = pose_sample(f, frame_index_, flags, *odometry_);
+  if (!wait([&] { return r_.poses.try_push(pose); }, "the publisher (pose ring)"))
+    pose_drops_.add();
+  LiveFrameResult result{f, t1 - t0, rt::monotonic_ns(), false};
+  if (!wait([&] { return r_.results.try_push(result); }, "the main thread (result ring)"))
+    result_drops_.add();
+  if (f.keyframe && r_.keyframes != nullptr) {
+    KeyframeSlot* slot = nullptr;
+    if (wait([&] { return (slot = r_.keyframes->acquire()) != nullptr; },
+             "the mapper (keyframe slots)")) {
+      slot->keyframe = odometry_->tracker().last_keyframe();  // reuses the slot's capacity
+      r_.pool.retain(h);
+      slot->frame = h;
+      r_.keyframes->publish(slot);
+      keyframes_.add();
+    } else {
+      r_.keyframes->count_drop();
+    }
+  }
+  r_.pool.release(h);
+  frames_.add();
+  ++frame_index_;
+}
+
+void LiveTracker::finish() noexcept {
+  LiveFrameResult end;
+  end.end_of_stream = true;
+  // End markers are never dropped: retry until there is room (bounded in every mode).
+  const bool lockstep = s_.lockstep;
+  s_.lockstep = true;
+  bool ok = wait([&] { return r_.results.try_push(end); }, "the main thread (result ring)");
+  if (ok && r_.keyframes != nullptr)
+    ok = wait([&] { return r_.keyframes->publish_end(); }, "the mapper (keyframe queue)");
+  s_.lockstep = lockstep;
+  if (ok) done_.store(true, std::memory_order_release);
+}
+
+LiveTrackerCounters LiveTracker::counters() const noexcept {
+  LiveTrackerCounters c;
+  c.frames = frames_.get();
+  c.skipped = skipped_.get();
+  c.waiting_imu = waiting_imu_.get();
+  c.out_of_order = out_of_order_.get();
+  c.imu_samples = imu_samples_.get();
+  c.imu_refused = imu_refused_.get();
+  c.imu_unavailable = imu_unavailable_.get();
+  c.pose_drops = pose_drops_.get();
+  c.result_drops = result_drops_.get();
+  c.keyframes = keyframes_.get();
+  c.keyframe_drops = r_.keyframes != nullptr ? r_.keyframes->dropped() : 0;
+  return c;
+}
+
+OdometryCounters LiveTracker::odometry_counters() const {
+  return odometry_ ? odometry_->counters() : OdometryCounters{};
+}
+
+}  // namespace vigs::pipeline

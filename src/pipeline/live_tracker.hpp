@@ -1,0 +1,126 @@
+#pragma once
+// LiveTracker: the body of the live pipeline's `tracker` task (rt::PeriodicTask at
+// camera.rate_hz). Each tick:
+//  1. takes the newest frame handle from the driver's ring; older queued frames are released
+//     and counted (skipped; the next pose is flagged kPoseFlagFramesSkipped). In lockstep it
+//     takes every queued frame in order instead, and nothing is skipped;
+//  2. moves the IMU samples with t <= the frame's stamp from the IMU ring into the Odometry;
+//  3. tracks (Odometry::track on the FramePool slot's RgbdView, no copy);
+//  4. pushes the PoseSample into the publisher's ring and the frame's result into the
+//     trajectory ring (both: full -> drop newest and count; lockstep: wait for room), and a
+//     keyframe into the KeyframeHandoff (no slot free -> drop and count; lockstep: wait).
+// Start-up (allocates once): the Odometry is made at the first frame that has IMU samples at or
+// before its stamp (or, without any, the first 20 samples after it), with the gravity-aligned
+// start of pipeline/lockstep_replay.hpp; earlier frames are released and counted (waiting_imu).
+// Faults, counted and flagged in the pose: a frame stamped at or before the previous one is
+// released (out_of_order, kPoseFlagOutOfOrder on the next pose); an IMU sample older than the
+// last is refused by the Odometry (imu_refused); a frame without an IMU prediction is flagged
+// kPoseFlagImuUnavailable.
+// Lockstep waits are bounded (wait_timeout_ns): a stage that does not move in that time fails
+// the tracker with a message naming the ring instead of hanging.
+// After warm-up the tick's own code does not allocate, lock or log; Odometry::track still grows
+// the tracking buffers when a frame has more points than any before (src/pipeline/README.md).
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/config/robot_config.hpp"
+#include "core/types/imu_sample.hpp"
+#include "core/types/pinhole_camera.hpp"
+#include "core/types/pose_sample.hpp"
+#include "pipeline/keyframe_handoff.hpp"
+#include "pipeline/lockstep_replay.hpp"
+#include "pipeline/odometry.hpp"
+#include "rt/counters.hpp"
+#include "rt/frame_pool.hpp"
+#include "rt/spsc_ring.hpp"
+
+namespace vigs::pipeline {
+
+/// One tracked frame as the main thread collects it.
+struct LiveFrameResult {
+  TrackedFrame frame;
+  std::int64_t track_ns = 0;      ///< inside Odometry::track
+  std::int64_t done_mono_ns = 0;  ///< CLOCK_MONOTONIC when the pose was pushed
+  bool end_of_stream = false;     ///< the last element: nothing follows
+};
+
+struct LiveTrackerSettings {
+  bool lockstep = false;
+  std::int64_t wait_timeout_ns = 30'000'000'000;  ///< lockstep: bound on any wait
+  float depth_scale_m = 0.001f;                   ///< metres per raw depth unit in the pool
+  PinholeCamera camera;
+  OdometryOptions odometry;  ///< guess / fusion overrides; initial_T_w_c unset = gravity
+};
+
+struct LiveTrackerRings {
+  rt::FramePool& pool;
+  rt::SpscRing<rt::FrameHandle>& frames;   ///< driver -> tracker; invalid handle = end
+  rt::SpscRing<ImuSample>& imu;            ///< driver -> tracker
+  rt::SpscRing<PoseSample>& poses;         ///< tracker -> publisher
+  rt::SpscRing<LiveFrameResult>& results;  ///< tracker -> main thread (trajectory, stats)
+  KeyframeHandoff* keyframes;              ///< tracker -> mapper; null: no mapping
+};
+
+struct LiveTrackerCounters {
+  std::uint64_t frames = 0;       ///< tracked
+  std::uint64_t skipped = 0;      ///< older frames released for a newer one
+  std::uint64_t waiting_imu = 0;  ///< frames released before the first IMU sample
+  std::uint64_t out_of_order = 0;
+  std::uint64_t imu_samples = 0;  ///< moved into the Odometry
+  std::uint64_t imu_refused = 0;  ///< older than the previous sample
+  std::uint64_t imu_unavailable = 0;
+  std::uint64_t pose_drops = 0;
+  std::uint64_t result_drops = 0;
+  std::uint64_t keyframes = 0;
+  std::uint64_t keyframe_drops = 0;
+};
+
+class LiveTracker {
+ public:
+  LiveTracker(const config::RobotConfig& cfg, const LiveTrackerSettings& settings,
+              const LiveTrackerRings& rings);
+
+  /// The task body (tracker thread only).
+  void tick();
+
+  /// The frame stream ended and every result (and the end markers) were pushed.
+  [[nodiscard]] bool done() const noexcept { return done_.load(std::memory_order_acquire); }
+  /// A lockstep wait timed out; failure_message() says which.
+  [[nodiscard]] bool failed() const noexcept { return failed_.load(std::memory_order_acquire); }
+  [[nodiscard]] const char* failure_message() const noexcept { return failure_; }
+  /// Any thread, any time (relaxed snapshot).
+  [[nodiscard]] LiveTrackerCounters counters() const noexcept;
+  /// After the tracker thread has stopped: the Odometry's own counters (zero before the start).
+  [[nodiscard]] OdometryCounters odometry_counters() const;
+  [[nodiscard]] InitialPoseSource initial_pose() const noexcept { return initial_pose_; }
+
+ private:
+  bool take_frame(rt::FrameHandle& h) noexcept;
+  void process(rt::FrameHandle h) noexcept;
+  bool start_odometry(std::int64_t t_ns);
+  void feed_imu(std::int64_t t_ns) noexcept;
+  void finish() noexcept;
+  template <class Pred>
+  bool wait(Pred&& ready, const char* what) noexcept;
+
+  const config::RobotConfig& cfg_;
+  LiveTrackerSettings s_;
+  LiveTrackerRings r_;
+  std::optional<Odometry> odometry_;
+  std::vector<ImuSample> early_imu_;  // samples before the Odometry exists (reserved)
+  std::size_t early_fed_ = 0;
+  std::int64_t last_t_ns_ = INT64_MIN;
+  std::uint32_t pending_flags_ = 0;
+  bool end_pending_ = false;  // the end marker was taken behind the frame being tracked
+  std::uint64_t frame_index_ = 0;
+  InitialPoseSource initial_pose_ = InitialPoseSource::identity;
+  std::atomic<bool> done_{false};
+  std::atomic<bool> failed_{false};
+  char failure_[160] = {};
+  rt::SingleWriterCounter frames_, skipped_, waiting_imu_, out_of_order_, imu_samples_,
+      imu_refused_, imu_unavailable_, pose_drops_, result_drops_, keyframes_;
+};
+
+}  // namespace vigs::pipeline

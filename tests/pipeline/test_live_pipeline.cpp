@@ -1,0 +1,174 @@
+// The live pipeline (src/pipeline/live_pipeline.hpp) on a short simulated office sequence
+// (240x160): lockstep gives exactly `vigs replay`'s trajectory, twice; real time tracks every
+// frame it keeps and counts what it skips; a subscriber in a second process (`vigs echo`)
+// receives every published pose in order with the frames' stamps; a stop request drains.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "../dds/process.hpp"
+#include "../dds/shm_janitor.hpp"
+#include "pipeline/live_pipeline.hpp"
+#include "sim_sequence.hpp"
+
+namespace vigs::pipeline {
+namespace {
+
+config::RobotConfig live_config() {
+  config::RobotConfig cfg = testing::small_office(4.0);
+  cfg.rt.lock_memory = false;  // tests: no mlockall, no SCHED_FIFO, no pinning
+  cfg.rt.realtime_priorities = false;
+  cfg.rt.pin_cpus = false;
+  cfg.dds.enabled = false;
+  cfg.mapping.threads = 1;
+  return cfg;
+}
+
+class LivePipeline : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir();
+    testing::simulate(live_config(), dir_->file("office.mcap"));
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static std::string recording() { return dir_->file("office.mcap"); }
+  static testing::TempDir* dir_;
+};
+testing::TempDir* LivePipeline::dir_ = nullptr;
+
+bool same_pose(const geometry::Pose& a, const geometry::Pose& b) {
+  return a.matrix() == b.matrix();  // bit-identical, not approximately equal
+}
+
+TEST_F(LivePipeline, LockstepEqualsReplayAndRepeats) {
+  const config::RobotConfig cfg = live_config();
+  LiveOptions o;
+  o.recording = recording();
+  o.lockstep = true;
+  o.mapping = true;
+  const LiveResult a = run_live(cfg, o);
+  const LiveResult b = run_live(cfg, o);
+  const ReplayResult ref = replay_recording(recording(), cfg, {});
+  ASSERT_EQ(a.replay.frames.size(), ref.frames.size());
+  ASSERT_EQ(b.replay.frames.size(), ref.frames.size());
+  EXPECT_EQ(a.drops, 0u);
+  EXPECT_EQ(a.tracker.skipped, 0u);
+  EXPECT_EQ(a.source.frame_drops + a.source.imu_drops, 0u);
+  EXPECT_EQ(a.tracker.imu_samples, ref.imu_samples_fed);
+  for (std::size_t i = 0; i < ref.frames.size(); ++i) {
+    ASSERT_EQ(a.replay.frames[i].t_ns, ref.frames[i].t_ns) << i;
+    ASSERT_TRUE(same_pose(a.replay.frames[i].T_w_c, ref.frames[i].T_w_c)) << "frame " << i;
+    ASSERT_TRUE(same_pose(b.replay.frames[i].T_w_c, a.replay.frames[i].T_w_c)) << "frame " << i;
+  }
+  // Mapping ran beside it and got every keyframe.
+  ASSERT_NE(a.replay.map, nullptr);
+  EXPECT_GT(a.replay.map->size(), 0u);
+  EXPECT_EQ(a.tracker.keyframe_drops, 0u);
+  EXPECT_EQ(static_cast<long>(a.tracker.keyframes), a.replay.counters.keyframes);
+}
+
+TEST_F(LivePipeline, RealTimeKeepsOrderAndCountsSkips) {
+  const config::RobotConfig cfg = live_config();
+  LiveOptions o;
+  o.recording = recording();
+  const LiveResult r = run_live(cfg, o);
+  const std::size_t n_recorded = replay_recording(recording(), cfg, {}).frames.size();
+  ASSERT_GT(r.replay.frames.size(), 0u);
+  // Every recorded frame was either tracked or counted as dropped or skipped.
+  EXPECT_EQ(
+      r.replay.frames.size() + r.tracker.skipped + r.source.frame_drops + r.tracker.waiting_imu,
+      n_recorded);
+  for (std::size_t i = 1; i < r.replay.frames.size(); ++i)
+    ASSERT_GT(r.replay.frames[i].t_ns, r.replay.frames[i - 1].t_ns);
+  // Paced by the stamps: it cannot run faster than the sequence.
+  EXPECT_LE(r.real_time_factor, 1.05);
+  EXPECT_GT(r.tracker_cycles, 0u);
+}
+
+TEST_F(LivePipeline, StopRequestDrainsAndReturns) {
+  const config::RobotConfig cfg = live_config();
+  std::atomic<int> stop{0};
+  LiveOptions o;
+  o.recording = recording();
+  o.stop = &stop;
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    stop.store(15);
+  });
+  const LiveResult r = run_live(cfg, o);
+  stopper.join();
+  EXPECT_TRUE(r.stopped_by_signal);
+  EXPECT_GT(r.replay.frames.size(), 0u);
+  EXPECT_LT(r.stream_s, 3.5);  // stopped before the 4 s sequence ended
+}
+
+TEST_F(LivePipeline, SubscriberInAnotherProcessGetsEveryPoseInOrder) {
+  const dds::test::ShmJanitor janitor;
+  config::RobotConfig cfg = live_config();
+  cfg.dds.enabled = true;
+  constexpr int kDomain = 171;
+  LiveOptions o;
+  o.recording = recording();  // real time: a pose every 50 ms, as from the sensors
+  o.dds_domain = kDomain;
+  o.wait_for_subscribers = 1;
+  dds::test::ChildProcess echo(
+      {VIGS_BIN, "echo", "rt/vigs/pose", "--domain", std::to_string(kDomain), "--timeout", "0"});
+  const LiveResult r = run_live(cfg, o);
+  const std::size_t n = r.replay.frames.size();
+  ASSERT_GT(n, 10u);  // under load the tracker skips frames; every pose it makes must arrive
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ASSERT_EQ(::kill(echo.pid(), SIGINT), 0);
+  ASSERT_EQ(echo.wait(std::chrono::seconds(20)), 0) << echo.output();
+  // One JSON line per pose with header.stamp {sec, nanosec}; in order, the frames' stamps.
+  std::istringstream lines(echo.output());
+  std::string line;
+  std::size_t i = 0;
+  while (std::getline(lines, line)) {
+    if (line.find("\"stamp\"") == std::string::npos) continue;
+    ASSERT_LT(i, n);
+    const std::int64_t t = r.replay.frames[i].t_ns;
+    const std::string sec = "\"sec\":" + std::to_string(t / 1'000'000'000);
+    const std::string nsec = "\"nanosec\":" + std::to_string(t % 1'000'000'000);
+    EXPECT_NE(line.find(sec), std::string::npos) << i << ": " << line;
+    EXPECT_NE(line.find(nsec), std::string::npos) << i << ": " << line;
+    ++i;
+  }
+  EXPECT_EQ(i, n);
+  EXPECT_EQ(r.poses_published, n);
+}
+
+TEST_F(LivePipeline, SigtermMidRunLeavesCompleteResults) {
+  const dds::test::ShmJanitor janitor;
+  const std::string out = dir_->file("results_sigterm");
+  dds::test::ChildProcess run({VIGS_BIN, "run", "--source", "replay:" + recording(), "--out", out,
+                               "--dds-domain", "172", "--quiet", "--no-report"},
+                              {}, /*merge_stderr=*/true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  ASSERT_EQ(::kill(run.pid(), SIGTERM), 0);
+  ASSERT_EQ(run.wait(std::chrono::seconds(30)), 0) << run.output();
+  std::ifstream tum(out + "/trajectory.tum");
+  std::string line;
+  std::size_t poses = 0;
+  while (std::getline(tum, line)) poses += !line.empty() && line[0] != '#';
+  EXPECT_GT(poses, 0u);
+  std::ifstream stats(out + "/stats.json");
+  const std::string text((std::istreambuf_iterator<char>(stats)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"stopped_by_signal\": true"), std::string::npos) << text;
+  EXPECT_TRUE(std::filesystem::exists(out + "/map.ply"));
+  EXPECT_EQ(text.find("\"frames\": " + std::to_string(poses)) == std::string::npos, false)
+      << "stats.json frames and trajectory.tum poses differ";
+}
+
+}  // namespace
+}  // namespace vigs::pipeline

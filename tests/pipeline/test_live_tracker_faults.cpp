@@ -1,0 +1,101 @@
+// LiveTracker's backlog and fault policies, driven tick by tick on the test thread with frames
+// pushed by hand: skip to the newest frame (counted, flagged), a frame stamped before its
+// predecessor (released, counted, the next pose flagged), the end marker ending the stream.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "core/config/robot_config.hpp"
+#include "pipeline/live_tracker.hpp"
+
+namespace vigs::pipeline {
+namespace {
+
+class LiveTrackerFaults : public ::testing::Test {
+ protected:
+  LiveTrackerFaults() {
+    cfg_.camera.width_px = 64;
+    cfg_.camera.height_px = 48;
+    cfg_.camera.fx_px = cfg_.camera.fy_px = 50.0;
+    cfg_.camera.cx_px = 32.0;
+    cfg_.camera.cy_px = 24.0;
+    LiveTrackerSettings s;
+    s.camera = PinholeCamera::from_settings(cfg_.camera);
+    s.odometry.guess = tracking::InitialGuessMode::previous_pose;  // no IMU needed
+    tracker_.emplace(cfg_, s, LiveTrackerRings{pool_, frames_, imu_, poses_, results_, nullptr});
+  }
+
+  /// Pushes a frame (a flat wall 2 m away, grey) stamped t_ns.
+  void push(std::int64_t t_ns) {
+    const rt::FrameHandle h = pool_.acquire();
+    ASSERT_TRUE(h.valid());
+    rt::Frame& f = pool_.frame(h);
+    for (auto& d : f.depth) d = 2000;
+    for (auto& c : f.colour) c = 128;
+    f.t_ns = t_ns;
+    ASSERT_TRUE(frames_.try_push(h));
+  }
+  std::vector<PoseSample> poses() {
+    std::vector<PoseSample> out;
+    PoseSample p;
+    while (poses_.try_pop(p)) out.push_back(p);
+    return out;
+  }
+
+  config::RobotConfig cfg_;
+  rt::FramePool pool_{{.slots = 8, .width = 64, .height = 48, .colour_channels = 3}};
+  rt::SpscRing<rt::FrameHandle> frames_{4};
+  rt::SpscRing<ImuSample> imu_{16};
+  rt::SpscRing<PoseSample> poses_{16};
+  rt::SpscRing<LiveFrameResult> results_{16};
+  std::optional<LiveTracker> tracker_;
+};
+
+TEST_F(LiveTrackerFaults, SkipsToNewestAndFlagsIt) {
+  push(1'000'000'000);
+  tracker_->tick();
+  push(1'050'000'000);
+  push(1'100'000'000);
+  push(1'150'000'000);
+  tracker_->tick();  // three queued: the newest is tracked, two skipped
+  const auto p = poses();
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[1].t_ns, 1'150'000'000);
+  EXPECT_EQ(p[1].frame_index, 1u);
+  EXPECT_NE(p[1].flags & kPoseFlagFramesSkipped, 0u);
+  EXPECT_EQ(p[0].flags & kPoseFlagFramesSkipped, 0u);
+  EXPECT_EQ(tracker_->counters().skipped, 2u);
+  EXPECT_EQ(pool_.available(), pool_.capacity());  // every slot came back
+}
+
+TEST_F(LiveTrackerFaults, OutOfOrderFrameIsDroppedCountedAndFlagged) {
+  push(2'000'000'000);
+  tracker_->tick();
+  push(1'900'000'000);  // older than the last tracked frame
+  tracker_->tick();
+  push(2'100'000'000);
+  tracker_->tick();
+  const auto p = poses();
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[1].t_ns, 2'100'000'000);
+  EXPECT_NE(p[1].flags & kPoseFlagOutOfOrder, 0u);
+  EXPECT_EQ(tracker_->counters().out_of_order, 1u);
+  EXPECT_EQ(tracker_->counters().frames, 2u);
+  EXPECT_EQ(pool_.available(), pool_.capacity());
+}
+
+TEST_F(LiveTrackerFaults, EndMarkerEndsTheStream) {
+  push(1'000'000'000);
+  ASSERT_TRUE(frames_.try_push(rt::FrameHandle{}));
+  tracker_->tick();
+  tracker_->tick();
+  EXPECT_TRUE(tracker_->done());
+  LiveFrameResult r;
+  ASSERT_TRUE(results_.try_pop(r));
+  EXPECT_FALSE(r.end_of_stream);
+  ASSERT_TRUE(results_.try_pop(r));
+  EXPECT_TRUE(r.end_of_stream);
+}
+
+}  // namespace
+}  // namespace vigs::pipeline
