@@ -63,6 +63,7 @@ inline Tracker::Setting tracker_setting(const config::TrackingSettings& c) {
   s.local_map.confirm_distance_m = c.local_map_confirm_distance_m;
   s.local_map.confirm_keyframes = c.local_map_confirm_keyframes;
   s.moving_margin_m = c.moving_margin_m;
+  s.moving_window_frames = c.moving_window_frames;
   s.gicp_variance_scale = c.gicp_variance_scale;
   s.keyframe.min_overlap_ratio = c.keyframe_overlap_ratio;
   s.keyframe.max_translation_m = c.keyframe_translation_m;

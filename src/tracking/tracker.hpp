@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "tracking/frame_history.hpp"
 #include "tracking/gicp.hpp"
 #include "tracking/initial_guess.hpp"
 #include "tracking/keyframe_policy.hpp"
@@ -45,7 +46,10 @@ struct TrackingOutput {
   /// increment about the world origin (gicp.information / gicp_variance_scale, plus the prior's
   /// when there was one). Zero when the pose is not from GICP.
   Matrix6d information = Matrix6d::Zero();
-  int moving_points = 0;  ///< points of this keyframe flagged moving (0 for other frames)
+  /// Points of the keyframe flagged moving (0 for other frames). With the moving test on, the
+  /// keyframe (last_keyframe(): its own t_ns and T_w_c) is published moving_window_frames frames
+  /// after its own frame, once the frames after it are seen.
+  int moving_points = 0;
 };
 
 class Tracker {
@@ -66,10 +70,13 @@ class Tracker {
     /// The GICP cost's residuals are taken as this many times their modelled covariance
     /// (dimensionless): metric information = GicpResult::information / gicp_variance_scale.
     double gicp_variance_scale = 1.0;
-    /// Moving-point test at keyframes (see Keyframe::moving): a point is moving when it lies
-    /// more than this in front of the confirmed map's nearest surface along its pixel's ray.
-    /// 0 disables the test.
+    /// Moving-point test at keyframes (frame_history.hpp, Keyframe::moving): a point is moving
+    /// when one of the `moving_window_frames` frames before or after the keyframe measured a
+    /// surface more than this behind it along its ray. 0 disables the test.
     double moving_margin_m = 0.0;
+    /// Frames before and after a keyframe it is compared with; the keyframe enters the local
+    /// map (and reaches the mapper) this many frames late. 0 disables the test.
+    int moving_window_frames = 0;
   };
 
   Tracker(const PinholeCamera& camera, const Setting& setting,
@@ -97,14 +104,23 @@ class Tracker {
   [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }
   [[nodiscard]] const LocalMap& local_map() const { return map_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
+  /// Keyframes whose moving test would have flagged most points (taken as a pose error).
+  [[nodiscard]] std::int64_t moving_suspect_keyframes() const {
+    return history_.suspect_keyframes();
+  }
   /// Preprocessing and GICP run on this one team (GICP shares it when gicp.num_threads equals
   /// preprocess_threads, as settings_from_config makes them).
   [[nodiscard]] const rt::WorkerTeam& team() const { return team_; }
 
  private:
   geometry::Pose guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu, bool& fell_back) const;
+  /// Copies the frame's cloud into keyframe_ (not yet into the map).
+  void hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
+  /// hold_keyframe, then inserts it into the local map at once.
   void make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
-  int flag_moving(const geometry::Pose& T_w_c);
+  [[nodiscard]] bool moving_test_on() const {
+    return setting_.moving_margin_m > 0.0 && setting_.moving_window_frames > 0;
+  }
 
   Setting setting_;
   rt::WorkerTeam team_;
@@ -117,7 +133,8 @@ class Tracker {
   PinholeCamera camera_;
   PosePrior prior_;
   bool prior_pending_ = false;
-  std::vector<float> map_depth_;  ///< render_min_depth buffer (moving test)
+  FrameHistory history_;       ///< recent frames' depth (moving test)
+  int keyframe_pending_ = -1;  ///< frames_ index of a keyframe not yet inserted, or -1
   int frames_ = 0;
   geometry::Pose T_w_last_ = geometry::Pose::Identity();
   geometry::Pose T_w_prev_ = geometry::Pose::Identity();

@@ -40,7 +40,8 @@ struct TrackingSettings {
   double local_map_confirm_distance_m = 0.0;  ///< re-observation distance confirming a point
   int local_map_confirm_keyframes = 3;        ///< unconfirmed points dropped after this many
   // Moving people.
-  double moving_margin_m = 0.0;  ///< keyframe point this far in front of the map: moving
+  double moving_margin_m = 0.0;  ///< keyframe point this far in front of a recent frame: moving
+  int moving_window_frames = 0;  ///< frames before and after a keyframe it is compared with
   // IMU/GICP fusion.
   std::string fusion = "paper";      ///< fused | paper
   double gicp_variance_scale = 1.0;  ///< GICP residuals: this many times their covariance
@@ -104,8 +105,13 @@ struct TrackingSettings {
             {"keyframes", 1, 1000, "unconfirmed local-map points are dropped after this many"});
     v.field("moving_margin_m", moving_margin_m,
             {"m", 0.0, 10.0,
-             "keyframe points this far in front of the local map's surface along their ray "
-             "are moving (not inserted, flagged for the mapper); 0 = off"});
+             "keyframe points this far in front of the surface a frame shortly before or after "
+             "measured along their ray are moving (not inserted, flagged for the mapper); "
+             "0 = off"});
+    v.field("moving_window_frames", moving_window_frames,
+            {"frames", 0, 64,
+             "the moving test compares a keyframe with this many frames before and after it "
+             "(the keyframe reaches the map that many frames late); 0 = off"});
     v.field("fusion", fusion, {"fused", "paper"},
             "imu guess: fused = the IMU prediction and its covariance are a prior factor in "
             "GICP and a 15-state filter (pose, velocity, gyro and accel bias) is updated from "
