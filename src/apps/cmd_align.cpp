@@ -54,8 +54,8 @@ int run_align(const AlignOptions& o) {
   const PinholeCamera camera = tracking::load_camera_file(o.camera_file);
   config::TrackingSettings ts;
   if (!o.config_file.empty()) ts = config::load_config_file(o.config_file).tracking;
-  if (o.pixel_stride > 0) ts.pixel_stride = o.pixel_stride;
-  if (o.num_threads > 0) ts.num_threads = o.num_threads;
+  if (o.pixel_stride > 0) ts.preprocess.depth.pixel_stride = o.pixel_stride;
+  if (o.num_threads > 0) ts.gicp.num_threads = o.num_threads;
 
   geometry::Pose T_init = geometry::Pose::Identity();
   if (!o.init.empty()) {
@@ -79,8 +79,8 @@ int run_align(const AlignOptions& o) {
   const ImageF32 tgt_depth = io::read_depth_m(o.target[1], depth_scale_m);
   const double load_ms = ms_since(t_load);
 
-  vigs::rt::WorkerTeam team(ts.num_threads);
-  tracking::FramePreprocessor pre(camera, tracking::preprocess_setting(ts), team);
+  vigs::rt::WorkerTeam team(ts.gicp.num_threads);
+  tracking::FramePreprocessor pre(camera, ts.preprocess, team);
   tracking::GaussianCloud src, tgt;
   tracking::KdTree tgt_tree;
   tracking::PixelGrid tgt_grid;
@@ -99,7 +99,7 @@ int run_align(const AlignOptions& o) {
   const auto tgt_stats = process(tgt_depth, tgt_rgb, o.target, tgt, &tgt_tree, &tgt_grid);
   const double pre_ms = ms_since(t_pre);
 
-  tracking::Gicp gicp(tracking::gicp_setting(ts));
+  tracking::Gicp gicp(ts.gicp);
   const auto t_align = Clock::now();
   const tracking::GicpResult r =
       gicp.align(tracking::CloudTarget{&tgt, &tgt_tree, &tgt_grid}, src, T_init);

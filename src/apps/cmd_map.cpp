@@ -63,8 +63,7 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
       const auto cfg = config::load_config_file(camera_path);
       const PinholeCamera k = PinholeCamera::from_settings(cfg.camera);
       mapping::GaussianMap map;
-      mapping::GaussianInserter inserter(mapping::InsertSettings{
-          cfg.mapping.insert_voxel_m, cfg.mapping.insert_opacity, cfg.mapping.min_scale_m});
+      mapping::GaussianInserter inserter(cfg.mapping.insert);
       std::vector<LoadedFrame> frames(list.size());
       mapping::RgbdSampling sampling;
       sampling.stride_px = stride;

@@ -5,20 +5,12 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/config/mapping_components.hpp"
 #include "mapping/gaussian_map.hpp"
 
 namespace vigs::mapping {
 
-struct AdamSettings {
-  double lr_mean = 4e-6;
-  double lr_log_scale = 5e-3;
-  double lr_quat = 1e-3;
-  double lr_opacity = 0.05;
-  double lr_color = 2.5e-3;
-  double beta1 = 0.9;
-  double beta2 = 0.999;
-  double eps = 1e-15;  ///< as 3DGS
-};
+using config::AdamSettings;  // defaults: core/config/mapping_components.hpp
 
 class Adam {
  public:

@@ -8,16 +8,13 @@
 #include <cstdint>
 #include <unordered_set>
 
+#include "core/config/mapping_components.hpp"
 #include "mapping/gaussian_map.hpp"
 #include "mapping/keyframe_gaussians.hpp"
 
 namespace vigs::mapping {
 
-struct InsertSettings {
-  double voxel_m = 0.02;
-  double opacity = 0.1;
-  double min_scale_m = 1e-4;
-};
+using config::InsertSettings;  // defaults: core/config/mapping_components.hpp
 
 class GaussianInserter {
  public:

@@ -5,15 +5,13 @@
 // gradient.
 #include <vector>
 
+#include "core/config/mapping_components.hpp"
 #include "mapping/rasterizer.hpp"
 #include "mapping/ssim.hpp"
 
 namespace vigs::mapping {
 
-struct LossSettings {
-  double lambda_ssim = 0.2;   ///< weight of (1 - SSIM) against L1 colour
-  double lambda_depth = 0.1;  ///< weight of the depth L1 term (metres)
-};
+using config::LossSettings;  // defaults: core/config/mapping_components.hpp
 
 template <class T>
 struct LossTerms {

@@ -20,21 +20,8 @@ std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s
   return keep;
 }
 
-AdamSettings adam_settings_from(const config::MappingSettings& s) {
-  AdamSettings a;
-  a.lr_mean = s.lr_mean;
-  a.lr_log_scale = s.lr_log_scale;
-  a.lr_quat = s.lr_quat;
-  a.lr_opacity = s.lr_opacity;
-  a.lr_color = s.lr_color;
-  return a;
-}
-
 MapOptimizer::MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* pool)
-    : s_(s),
-      raster_(RasterSettings{}, pool),
-      loss_(LossSettings{s.lambda_ssim, s.lambda_depth}, pool),
-      adam_(adam_settings_from(s)) {}
+    : s_(s), raster_(RasterSettings{}, pool), loss_(s.loss, pool), adam_(s.adam) {}
 
 LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& view,
                                        std::size_t* pruned) {
@@ -60,7 +47,7 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
 }
 
 std::size_t MapOptimizer::prune(GaussianMap& map) {
-  const auto keep = prune_keep_mask(map, PruneSettings{s_.prune_min_opacity, s_.prune_max_scale_m});
+  const auto keep = prune_keep_mask(map, s_.prune);
   adam_.compact(keep);
   return map.compact(keep);
 }

@@ -21,10 +21,7 @@ struct TrainingView {
   const float* depth_m = nullptr;
 };
 
-struct PruneSettings {
-  double min_opacity = 0.005;
-  double max_scale_m = 0.5;
-};
+using config::PruneSettings;  // defaults: core/config/mapping_components.hpp
 
 /// Marks Gaussians to keep: opacity >= min_opacity and every standard deviation <= max_scale_m.
 std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s);
@@ -57,7 +54,5 @@ class MapOptimizer {
   std::vector<float> v_color_, v_depth_;
   long iterations_ = 0;
 };
-
-AdamSettings adam_settings_from(const config::MappingSettings& s);
 
 }  // namespace vigs::mapping

@@ -12,7 +12,7 @@ Mapper::Mapper(const config::MappingSettings& s, KeyframeRing& ring, rt::WorkerT
       ring_(ring),
       max_pending_(max_pending),
       max_keyframes_(std::max<std::size_t>(1, max_keyframes)),
-      inserter_(InsertSettings{s.insert_voxel_m, s.insert_opacity, s.min_scale_m}),
+      inserter_(s.insert),
       optimizer_(s, pool) {}
 
 std::size_t Mapper::next_view() {

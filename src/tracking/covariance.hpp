@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/config/tracking_components.hpp"
 #include "rt/worker_team.hpp"
 #include "tracking/gaussian_cloud.hpp"
 #include "tracking/kdtree.hpp"
@@ -30,21 +31,11 @@
 
 namespace vigs::tracking {
 
-enum class Regularization { normalized_ellipse, plane, none };
-
-/// How the k nearest neighbours are found. Both give the exact kNN (they may differ only in
-/// which of several equidistant points is kept).
-enum class KnnSearch {
-  image_grid,  ///< through the depth image (organized_knn.hpp), kd-tree where uncertified
-  kd_tree,     ///< kd-tree over the points (kdtree.hpp)
-};
-
-struct CovarianceSetting {
-  int k_neighbors = 10;  ///< includes the point itself, as GS-ICP SLAM's kd-tree query does
-  Regularization regularization = Regularization::normalized_ellipse;
-  double epsilon = 1e-3;  ///< smallest regularised eigenvalue
-  KnnSearch knn_search = KnnSearch::image_grid;
-};
+// Declared with the other tracking settings (config/tracking_components.hpp), where the
+// defaults are; the robot file documents them (config/tracking_settings.hpp).
+using config::CovarianceSetting;
+using config::KnnSearch;
+using config::Regularization;
 
 /// Regularised covariance of one raw covariance (see the header comment).
 Eigen::Matrix3f regularize_covariance(const Eigen::Matrix3f& raw_m2,

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/config/tracking_components.hpp"
 #include "core/types/image.hpp"
 #include "core/types/pinhole_camera.hpp"
 #include "core/types/rgbd_view.hpp"
@@ -25,12 +26,7 @@ struct DepthToPointsStats {
 
 class DepthToPoints {
  public:
-  struct Setting {
-    int pixel_stride = 4;       ///< every n-th pixel in x and y, starting at (0, 0)
-    double voxel_size_m = 0.0;  ///< average points per voxel of this edge; 0 = off
-    double near_m = 0.1;
-    double far_m = 8.0;
-  };
+  using Setting = config::DepthToPointsSetting;
 
   DepthToPoints() = default;
   DepthToPoints(const PinholeCamera& camera, const Setting& setting)

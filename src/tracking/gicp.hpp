@@ -66,22 +66,7 @@ struct GicpResult {
 
 class Gicp {
  public:
-  struct Setting {
-    double max_correspondence_distance_m = 0.1;
-    RobustKernel kernel = RobustKernel::huber;
-    double kernel_width = 0.5;  ///< on sqrt(d^T M d)
-    int max_iterations = 30;
-    double rotation_eps_rad = 0.1 * 3.14159265358979323846 / 180.0;
-    double translation_eps_m = 1e-3;
-    double lm_lambda_init = 1e-6;  ///< initial damping of H + lambda I
-    /// Degenerate when min/max eigenvalue of the Hessian is below this, after re-expressing
-    /// rotations about the centroid of the matched points and scaling them by the RMS spread
-    /// about it (gicp_impl.hpp). A single plane gives about epsilon (1e-3).
-    double degenerate_eigen_ratio = 1e-2;
-    double overlap_distance_m = 0.022;  ///< for GicpResult::overlap_ratio
-    int min_inliers = 20;               ///< fewer correspondences: diverged
-    int num_threads = 2;
-  };
+  using Setting = config::GicpSetting;  ///< defaults: config/tracking_components.hpp
 
   Gicp();
   /// `team`: the worker team to run on (the Tracker shares its own; it must outlive this Gicp

@@ -10,6 +10,7 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "core/config/tracking_components.hpp"
 #include "core/geometry/so3.hpp"
 
 namespace vigs::tracking {
@@ -21,7 +22,8 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 /// huber (linear beyond w), cauchy (w^2 log(1 + e2/w^2)) and geman_mcclure
 /// (w^2 e2 / (w^2 + e2): bounded, so a gross outlier such as a walking person's point matched to
 /// the wall behind it adds at most w^2 to the cost and almost nothing to the system).
-enum class RobustKernel { none, huber, cauchy, geman_mcclure };
+/// (Declared with the settings: config/tracking_components.hpp.)
+using config::RobustKernel;
 
 /// dr/dxi at y = T p (3x6).
 inline Eigen::Matrix<double, 3, 6> gicp_residual_jacobian(const Eigen::Vector3d& y) {

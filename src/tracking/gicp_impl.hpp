@@ -103,7 +103,7 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
     }
     geometry::Pose T_new = geometry::se3_exp_rot_trans(dx) * T;
     T_new.linear() = geometry::normalize_rotation<double>(T_new.linear());
-    if (dx.head<3>().norm() < setting_.rotation_eps_rad &&
+    if (dx.head<3>().norm() < setting_.rotation_eps_rad() &&
         dx.tail<3>().norm() < setting_.translation_eps_m) {
       // Converged: take the small final step without another correspondence search. H,
       // inliers and cost are those of the last linearisation, at most eps away.
@@ -124,7 +124,7 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
       lambda = std::max(lambda, 1e-6) * 10.0;
       if (lambda > 1e6) {
         // No descent direction left: the current pose is a (local) minimum.
-        converged = dx.head<3>().norm() < 10.0 * setting_.rotation_eps_rad &&
+        converged = dx.head<3>().norm() < 10.0 * setting_.rotation_eps_rad() &&
                     dx.tail<3>().norm() < 10.0 * setting_.translation_eps_m;
         break;
       }

@@ -8,11 +8,12 @@
 #include <cstdint>
 #include <string_view>
 
+#include "core/config/tracking_components.hpp"
 #include "core/geometry/se3.hpp"
 
 namespace vigs::tracking {
 
-enum class InitialGuessMode { imu, constant_velocity, previous_pose };
+using config::InitialGuessMode;  // declared with the settings (config/tracking_components.hpp)
 
 inline InitialGuessMode initial_guess_from_string(std::string_view name) {
   if (name == "constant_velocity") return InitialGuessMode::constant_velocity;

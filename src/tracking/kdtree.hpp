@@ -10,15 +10,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/config/tracking_components.hpp"
 #include "rt/worker_team.hpp"
 
 namespace vigs::tracking {
 
 class KdTree {
  public:
-  struct Setting {
-    int leaf_size = 16;  ///< most points per leaf (bench_tracking BM_KnnOwnKdTree/LEAF)
-  };
+  using Setting = config::KdTreeSetting;
   static constexpr int kMaxK = 64;
   static constexpr std::uint32_t kLane = 4;  ///< leaf blocks are padded to a multiple of this
 

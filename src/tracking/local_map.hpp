@@ -36,6 +36,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/config/tracking_components.hpp"
 #include "core/geometry/se3.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
@@ -43,14 +44,7 @@ namespace vigs::tracking {
 
 class LocalMap {
  public:
-  struct Setting {
-    double voxel_m = 0.1;
-    int points_per_voxel = 20;
-    int max_voxels = 16384;
-    double radius_m = 6.0;
-    double confirm_distance_m = 0.0;  ///< 0: every point is used at once (no confirmation)
-    int confirm_keyframes = 3;        ///< tentative points older than this many keyframes go
-  };
+  using Setting = config::LocalMapSetting;
   static constexpr std::size_t kMinConfirmedPoints = 500;
 
   LocalMap();

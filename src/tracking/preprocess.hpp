@@ -18,11 +18,7 @@ namespace vigs::tracking {
 
 class FramePreprocessor {
  public:
-  struct Setting {
-    DepthToPoints::Setting depth;
-    CovarianceSetting covariance;
-    KdTree::Setting tree;
-  };
+  using Setting = config::PreprocessSetting;  ///< depth, covariance, tree
 
   /// `team` is shared with the caller's other parallel work and must outlive this object.
   FramePreprocessor(const PinholeCamera& camera, const Setting& setting, rt::WorkerTeam& team);

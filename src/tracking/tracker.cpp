@@ -96,7 +96,7 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
     const geometry::PoseError correction = geometry::pose_error(out.T_w_c_guess, out.gicp.T_t_s);
     if (out.gicp.verdict == GicpVerdict::diverged ||
         correction.translation_m > setting_.max_correction_m ||
-        correction.rotation_rad > setting_.max_correction_rad) {
+        correction.rotation_rad > setting_.max_correction_rad()) {
       out.status = TrackingStatus::lost_diverged;
     } else if (out.gicp.verdict == GicpVerdict::degenerate && !out.prior_used) {
       out.status = TrackingStatus::lost_degenerate;

@@ -54,29 +54,15 @@ struct TrackingOutput {
 
 class Tracker {
  public:
-  struct Setting {
-    FramePreprocessor::Setting preprocess;
-    Gicp::Setting gicp;
-    LocalMap::Setting local_map;
-    KeyframePolicy::Setting keyframe;
-    InitialGuessMode initial_guess = InitialGuessMode::imu;
-    double min_inlier_ratio = 0.3;
-    double max_correction_m = 0.5;
-    double max_correction_rad = 30.0 * 3.14159265358979323846 / 180.0;
-    int preprocess_threads = 2;
+  /// preprocess, gicp, local_map, keyframe, initial_guess, min_inlier_ratio, max_correction_*,
+  /// gicp_variance_scale, moving_margin_m and moving_window_frames:
+  /// config/tracking_components.hpp (the defaults)
+  /// and config/tracking_settings.hpp (the robot file's keys and docs).
+  struct Setting : config::TrackerSetting {
+    int preprocess_threads = gicp.num_threads;
     /// Member 1 of the tracker's worker team (more members: rt::worker_spec). Normal priority
     /// by default; the live pipeline passes the thread table's `tracker_w1` as rt: allows.
     rt::ThreadSpec worker{.name = "tracker_w1"};
-    /// The GICP cost's residuals are taken as this many times their modelled covariance
-    /// (dimensionless): metric information = GicpResult::information / gicp_variance_scale.
-    double gicp_variance_scale = 1.0;
-    /// Moving-point test at keyframes (frame_history.hpp, Keyframe::moving): a point is moving
-    /// when one of the `moving_window_frames` frames before or after the keyframe measured a
-    /// surface more than this behind it along its ray. 0 disables the test.
-    double moving_margin_m = 0.0;
-    /// Frames before and after a keyframe it is compared with; the keyframe enters the local
-    /// map (and reaches the mapper) this many frames late. 0 disables the test.
-    int moving_window_frames = 0;
   };
 
   Tracker(const PinholeCamera& camera, const Setting& setting,
@@ -133,7 +119,7 @@ class Tracker {
   PinholeCamera camera_;
   PosePrior prior_;
   bool prior_pending_ = false;
-  FrameHistory history_;       ///< recent frames' depth (moving test)
+  FrameHistory history_;      ///< recent frames' depth (moving test)
   int keyframe_pending_ = -1;  ///< frames_ index of a keyframe not yet inserted, or -1
   int frames_ = 0;
   geometry::Pose T_w_last_ = geometry::Pose::Identity();

@@ -314,7 +314,7 @@ BENCHMARK(BM_TrackingStep)
 void BM_TrackerFrameVsLocalMap(benchmark::State& state) {
   const Data& d = data();
   config::TrackingSettings cfg;
-  cfg.num_threads = static_cast<int>(state.range(0));
+  cfg.gicp.num_threads = static_cast<int>(state.range(0));
   Tracker tracker(d.camera, tracker_setting(cfg));
   const geometry::Pose I = geometry::Pose::Identity();
   tracker.track(0, d.depth2, d.rgb2, &I);  // map anchored at frame 2 = world
@@ -358,9 +358,9 @@ void BM_TrackerSequenceByGuessMode(benchmark::State& state) {
       geometry::make_pose(Eigen::Vector3d(1.0, 1.0, -1.0).normalized() * 0.3 * kDeg,
                           Eigen::Vector3d(1.0, -2.0, 2.0).normalized() * 0.005);
   config::TrackingSettings cfg;
-  cfg.initial_guess = state.range(0) == 0   ? "imu"
-                      : state.range(0) == 1 ? "constant_velocity"
-                                            : "previous_pose";
+  cfg.initial_guess = state.range(0) == 0   ? InitialGuessMode::imu
+                      : state.range(0) == 1 ? InitialGuessMode::constant_velocity
+                                            : InitialGuessMode::previous_pose;
   double iterations = 0.0;
   geometry::PoseError last;
   for (auto _ : state) {

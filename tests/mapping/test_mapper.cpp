@@ -51,10 +51,10 @@ std::unique_ptr<MapperKeyframe> make_keyframe(const GaussianMap& truth, std::uin
 
 config::MappingSettings test_settings() {
   config::MappingSettings s;
-  s.lr_mean = 1e-3;
-  s.lr_color = 0.02;
-  s.insert_voxel_m = 0.05;
-  s.insert_opacity = 0.3;
+  s.adam.lr_mean = 1e-3;
+  s.adam.lr_color = 0.02;
+  s.insert.voxel_m = 0.05;
+  s.insert.opacity = 0.3;
   s.iterations_per_tick = 1;
   s.window_keyframes = 2;
   s.random_keyframes = 1;

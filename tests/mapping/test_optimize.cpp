@@ -54,12 +54,12 @@ TEST(MappingOptimize, PerturbedSceneConvergesToStatedPsnr) {
   for (auto& v : g.color_rgb) v = std::clamp(v + 0.15f * n01(rng), 0.0f, 1.0f);
 
   config::MappingSettings s;
-  s.lr_mean = 5e-4;
-  s.lr_log_scale = 0.01;
-  s.lr_quat = 0.005;
-  s.lr_opacity = 0.05;
-  s.lr_color = 0.01;
-  s.lambda_depth = 0.1;
+  s.adam.lr_mean = 5e-4;
+  s.adam.lr_log_scale = 0.01;
+  s.adam.lr_quat = 0.005;
+  s.adam.lr_opacity = 0.05;
+  s.adam.lr_color = 0.01;
+  s.loss.lambda_depth = 0.1;
   s.prune_every = 100;
   MapOptimizer opt(s, &pool);
   auto mean_psnr = [&] {

@@ -32,7 +32,7 @@ inline config::RobotConfig small_office(double seconds) {
   cfg.sim.preset = "office";
   cfg.sim.humans = 0;
   cfg.sim.seconds = seconds;
-  cfg.tracking.pixel_stride = 2;
+  cfg.tracking.preprocess.depth.pixel_stride = 2;
   return cfg;
 }
 

@@ -105,7 +105,7 @@ TEST_P(GicpBasin, RecoversKnownTransform) {
   Gicp::Setting s;
   s.max_correspondence_distance_m = 0.5;
   s.max_iterations = 60;
-  s.rotation_eps_rad = 1e-4 * kDeg;
+  s.rotation_eps_deg = 1e-4;
   s.translation_eps_m = 1e-6;
   Gicp gicp(s);
   const GicpResult r =

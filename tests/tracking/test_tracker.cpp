@@ -134,7 +134,7 @@ TEST(InitialGuess, ConstantVelocityRepeatsTheLastMotionScaledByTime) {
 
 TEST(KeyframePolicy, OverlapTranslationAndRotationThresholds) {
   KeyframePolicy p;
-  p.setting = {0.9, 0.3, 15.0 * kDeg};
+  p.setting = {0.9, 0.3, 15.0};
   const geometry::Pose I = geometry::Pose::Identity();
   EXPECT_FALSE(p.is_keyframe(0.95, I, I));
   EXPECT_TRUE(p.is_keyframe(0.85, I, I));
@@ -156,7 +156,7 @@ TEST(TrackingConfig, YamlSectionMapsOntoComponentSettings) {
   EXPECT_EQ(s.preprocess.covariance.regularization, Regularization::plane);
   EXPECT_EQ(s.gicp.kernel, RobustKernel::cauchy);
   EXPECT_EQ(s.initial_guess, InitialGuessMode::previous_pose);
-  EXPECT_NEAR(s.gicp.rotation_eps_rad, 0.05 * kDeg, 1e-15);
+  EXPECT_NEAR(s.gicp.rotation_eps_rad(), 0.05 * kDeg, 1e-15);
   EXPECT_EQ(s.local_map.max_voxels, 4096);
   EXPECT_EQ(s.preprocess.covariance.k_neighbors, 10);  // default kept
   EXPECT_THROW(config::load_config_text("tracking:\n  regularization: sphere\n", "bad.yaml"),

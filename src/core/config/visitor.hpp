@@ -5,9 +5,12 @@
 // (the struct member's initialiser) and a valid range.
 
 #include <array>
+#include <cstddef>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace vigs::config {
@@ -20,8 +23,21 @@ struct FieldInfo {
   std::string_view doc;
 };
 
-/// Allowed values of a string field; empty means any string.
-using Choices = std::initializer_list<std::string_view>;
+/// Allowed values of a string field; empty means any string. A view: the names outlive the
+/// call (a braced list at the call site, or an enumeration's name table).
+class Choices {
+ public:
+  Choices(std::initializer_list<std::string_view> names) : names_(names.begin(), names.size()) {}
+  template <std::size_t N>
+  Choices(const std::array<std::string_view, N>& names) : names_(names) {}
+
+  [[nodiscard]] std::size_t size() const { return names_.size(); }
+  [[nodiscard]] auto begin() const { return names_.begin(); }
+  [[nodiscard]] auto end() const { return names_.end(); }
+
+ private:
+  std::span<const std::string_view> names_;
+};
 
 class Visitor {
  public:
@@ -38,6 +54,19 @@ class Visitor {
   template <std::size_t N>
   void field(std::string_view key, std::array<double, N>& values, const FieldInfo& info) {
     field(key, values.data(), static_cast<int>(N), info);
+  }
+
+  /// Enumeration written as one of its names; names[i] names the enumerator of value i.
+  template <class Enum, std::size_t N>
+  requires std::is_enum_v<Enum>
+  void field(std::string_view key, Enum& value, const std::array<std::string_view, N>& names,
+             std::string_view doc) {
+    const auto index = static_cast<std::size_t>(value);
+    std::string text(index < N ? names[index] : std::string_view{});
+    field(key, text, Choices(names), doc);
+    for (std::size_t i = 0; i < N; ++i) {
+      if (names[i] == text) value = static_cast<Enum>(i);
+    }
   }
 
   /// Nested mapping. `body` visits the section's fields.

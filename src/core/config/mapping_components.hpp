@@ -1,0 +1,42 @@
+#pragma once
+// The mapping components' settings, declared once: each default is written here and each
+// field's unit, range and doc string in MappingSettings::visit (mapping_settings.hpp), which
+// binds them to the robot file's flat `mapping:` keys. The mapping library uses them as they
+// are (mapping::AdamSettings is AdamSettings, ...). Fields the robot file does not set carry
+// their doc here.
+
+namespace vigs::config {
+
+/// mapping::LossSettings: (1 - lambda_ssim) L1 + lambda_ssim (1 - SSIM) + lambda_depth L1(depth).
+struct LossSettings {
+  double lambda_ssim = 0.2;
+  double lambda_depth = 0.1;
+};
+
+/// mapping::AdamSettings: one learning rate per parameter group.
+struct AdamSettings {
+  double lr_mean = 4e-6;
+  double lr_log_scale = 5e-3;
+  double lr_quat = 1e-3;
+  double lr_opacity = 0.05;
+  double lr_color = 2.5e-3;
+  double beta1 = 0.9;    ///< not in the robot file
+  double beta2 = 0.999;  ///< not in the robot file
+  double eps = 1e-15;    ///< as 3DGS; not in the robot file
+};
+
+/// mapping::PruneSettings: Gaussians below min_opacity or with a standard deviation above
+/// max_scale_m are pruned.
+struct PruneSettings {
+  double min_opacity = 0.005;
+  double max_scale_m = 0.5;
+};
+
+/// mapping::InsertSettings.
+struct InsertSettings {
+  double voxel_m = 0.02;
+  double opacity = 0.1;
+  double min_scale_m = 1e-4;
+};
+
+}  // namespace vigs::config

@@ -1,0 +1,126 @@
+#pragma once
+// The tracking components' settings, declared once: each default is written here and each
+// field's unit, range and doc string in TrackingSettings::visit (tracking_settings.hpp), which
+// binds them to the robot file's flat `tracking:` keys. The components name them as their
+// nested `Setting` (DepthToPoints::Setting is DepthToPointsSetting, Gicp::Setting is
+// GicpSetting, ...). Fields the robot file does not set carry their doc here.
+#include <array>
+#include <string_view>
+
+namespace vigs::config {
+
+/// Degrees to radians, as the tracking components convert their angle settings.
+constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
+
+/// Covariance regularisation (tracking/covariance.hpp).
+enum class Regularization { normalized_ellipse, plane, none };
+inline constexpr std::array<std::string_view, 3> kRegularizationNames{"normalized_ellipse", "plane",
+                                                                      "none"};
+
+/// How the k nearest neighbours are found. Both give the exact kNN (they may differ only in
+/// which of several equidistant points is kept).
+enum class KnnSearch {
+  image_grid,  ///< through the depth image (organized_knn.hpp), kd-tree where uncertified
+  kd_tree,     ///< kd-tree over the points (kdtree.hpp)
+};
+inline constexpr std::array<std::string_view, 2> kKnnSearchNames{"image_grid", "kdtree"};
+
+/// Robust kernel on the GICP residual (tracking/gicp_factor.hpp).
+enum class RobustKernel { none, huber, cauchy, geman_mcclure };
+inline constexpr std::array<std::string_view, 4> kRobustKernelNames{"none", "huber", "cauchy",
+                                                                    "geman_mcclure"};
+
+/// Where GICP starts for a new frame (tracking/initial_guess.hpp).
+enum class InitialGuessMode { imu, constant_velocity, previous_pose };
+inline constexpr std::array<std::string_view, 3> kInitialGuessNames{"imu", "constant_velocity",
+                                                                    "previous_pose"};
+
+/// DepthToPoints::Setting.
+struct DepthToPointsSetting {
+  int pixel_stride = 4;  ///< starting at pixel (0, 0)
+  double voxel_size_m = 0.0;
+  double near_m = 0.1;
+  double far_m = 8.0;
+};
+
+/// tracking::CovarianceSetting.
+struct CovarianceSetting {
+  int k_neighbors = 10;  ///< includes the point itself, as GS-ICP SLAM's kd-tree query does
+  Regularization regularization = Regularization::normalized_ellipse;
+  double epsilon = 1e-3;
+  KnnSearch knn_search = KnnSearch::image_grid;
+};
+
+/// KdTree::Setting (not in the robot file).
+struct KdTreeSetting {
+  int leaf_size = 16;  ///< most points per leaf (bench_tracking BM_KnnOwnKdTree/LEAF)
+};
+
+/// FramePreprocessor::Setting.
+struct PreprocessSetting {
+  DepthToPointsSetting depth;
+  CovarianceSetting covariance;
+  KdTreeSetting tree;
+};
+
+/// Gicp::Setting.
+struct GicpSetting {
+  double max_correspondence_distance_m = 0.1;
+  RobustKernel kernel = RobustKernel::huber;
+  double kernel_width = 0.5;
+  int max_iterations = 30;
+  double rotation_eps_deg = 0.1;
+  double translation_eps_m = 1e-3;
+  double lm_lambda_init = 1e-6;  ///< initial damping of H + lambda I (not in the robot file)
+  /// The Hessian's rotations are re-expressed about the centroid of the matched points and
+  /// scaled by the RMS spread about it (gicp_impl.hpp). A single plane gives about epsilon.
+  double degenerate_eigen_ratio = 1e-2;
+  double overlap_distance_m = 0.022;  ///< for GicpResult::overlap_ratio
+  int min_inliers = 20;               ///< fewer correspondences: diverged (not in the robot file)
+  int num_threads = 2;
+
+  [[nodiscard]] double rotation_eps_rad() const { return rotation_eps_deg * kRadPerDeg; }
+};
+
+/// LocalMap::Setting.
+struct LocalMapSetting {
+  double voxel_m = 0.1;
+  int points_per_voxel = 20;
+  int max_voxels = 16384;
+  double radius_m = 6.0;
+  double confirm_distance_m = 0.0;
+  int confirm_keyframes = 3;
+};
+
+/// KeyframePolicy::Setting.
+struct KeyframeSetting {
+  double min_overlap_ratio = 0.7;  ///< GS-ICP SLAM's keyframe_th
+  double max_translation_m = 0.3;
+  double max_rotation_deg = 15.0;
+
+  [[nodiscard]] double max_rotation_rad() const { return max_rotation_deg * kRadPerDeg; }
+};
+
+/// What Tracker::Setting holds beyond its threads (tracking/tracker.hpp).
+struct TrackerSetting {
+  PreprocessSetting preprocess;
+  GicpSetting gicp;
+  LocalMapSetting local_map;
+  KeyframeSetting keyframe;
+  InitialGuessMode initial_guess = InitialGuessMode::imu;
+  double min_inlier_ratio = 0.3;
+  double max_correction_m = 0.5;
+  double max_correction_deg = 30.0;
+  double gicp_variance_scale = 1.0;  ///< GicpResult::information / this = metric information
+  /// Moving-point test at keyframes (tracking/frame_history.hpp, Keyframe::moving): a point is
+  /// moving when one of the `moving_window_frames` frames before or after the keyframe measured
+  /// a surface more than this behind it along its ray. 0 = off.
+  double moving_margin_m = 0.0;
+  /// Frames before and after a keyframe it is compared with; the keyframe enters the local map
+  /// (and reaches the mapper) this many frames late. 0 = off.
+  int moving_window_frames = 0;
+
+  [[nodiscard]] double max_correction_rad() const { return max_correction_deg * kRadPerDeg; }
+};
+
+}  // namespace vigs::config
