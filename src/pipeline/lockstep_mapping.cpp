@@ -33,6 +33,34 @@ void LockstepMapper::add_keyframe(const tracking::Keyframe& kf, const RgbdView& 
   ImageF32 depth_m;
   copy_rgb8(frame, rgb);
   copy_depth_m(frame, depth_m);
+  add(kf, rgb, std::move(depth_m));
+}
+
+void LockstepMapper::keep_frames(int frames) {
+  kept_.assign(static_cast<std::size_t>(std::max(0, frames)), KeptFrame{});
+  next_kept_ = 0;
+}
+
+void LockstepMapper::keep_frame(const RgbdView& frame) {
+  if (kept_.empty()) return;
+  KeptFrame& k = kept_[next_kept_];
+  next_kept_ = (next_kept_ + 1) % kept_.size();
+  k.t_ns = frame.t_ns;
+  copy_rgb8(frame, k.rgb);
+  copy_depth_m(frame, k.depth_m);
+}
+
+bool LockstepMapper::add_keyframe(const tracking::Keyframe& kf) {
+  for (const KeptFrame& k : kept_) {
+    if (k.t_ns == kf.t_ns) {
+      add(kf, k.rgb, k.depth_m);
+      return true;
+    }
+  }
+  return false;
+}
+
+void LockstepMapper::add(const tracking::Keyframe& kf, const ImageU8& rgb, ImageF32 depth_m) {
   auto m = std::make_unique<mapping::MapperKeyframe>();
   m->id = next_id_++;
   m->gaussians = to_keyframe_gaussians(kf, sample_angle_rad_);

@@ -8,6 +8,7 @@
 // iteration count; not real time (a live mapper runs at its own rate on its own thread).
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "core/config/mapping_settings.hpp"
 #include "core/types/pinhole_camera.hpp"
@@ -29,6 +30,13 @@ class LockstepMapper {
   /// Hands a keyframe to the mapper with `frame` as its training view (allocates: copies
   /// points and images; depth without a measurement becomes 0).
   void add_keyframe(const tracking::Keyframe& kf, const RgbdView& frame);
+  /// Keeps a copy of the last `frames` frames (keep_frame) so that a keyframe published late
+  /// (the tracker's moving test holds it tracking.moving_window_frames frames) is trained on
+  /// its own images: add_keyframe(kf) finds them by kf.t_ns.
+  void keep_frames(int frames);
+  void keep_frame(const RgbdView& frame);
+  /// add_keyframe with the kept frame stamped kf.t_ns; false (nothing added) when none is kept.
+  bool add_keyframe(const tracking::Keyframe& kf);
   /// One mapper tick: ingest, then iterations_per_frame iterations (none before a keyframe).
   void step() { mapper_->tick(); }
 
@@ -43,6 +51,14 @@ class LockstepMapper {
   rt::WorkerTeam pool_;
   mapping::KeyframeRing ring_;
   std::unique_ptr<mapping::Mapper> mapper_;
+  struct KeptFrame {
+    std::int64_t t_ns = -1;
+    ImageU8 rgb;
+    ImageF32 depth_m;
+  };
+  void add(const tracking::Keyframe& kf, const ImageU8& rgb, ImageF32 depth_m);
+  std::vector<KeptFrame> kept_;
+  std::size_t next_kept_ = 0;
   std::uint64_t next_id_ = 0;
   long dropped_keyframes_ = 0;
 };

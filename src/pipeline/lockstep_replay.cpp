@@ -104,9 +104,11 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
         throw RecordingError(path + ": no sensor_msgs/Imu messages on " + options.imu_topic +
                              " for the imu guess (use previous_pose or constant_velocity)");
       }
-      if (options.map_budget_ms > 0.0 || options.map_iterations_per_frame > 0)
+      if (options.map_budget_ms > 0.0 || options.map_iterations_per_frame > 0) {
         mapper.emplace(cfg.mapping, rec.camera, options.map_iterations_per_frame,
                        options.map_budget_ms, cfg.tracking.preprocess.depth.pixel_stride);
+        mapper->keep_frames(cfg.tracking.moving_window_frames + 1);
+      }
       result.camera = rec.camera;
       result.guess = odometry->guess_mode();
       result.fusion = odometry->fusion_mode();
@@ -129,6 +131,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     feeder.feed_until(t_ns, *odometry);
     // A frame without depth is tracked with no measurement anywhere (and so is lost).
     if (!rec.view.has_depth()) ++result.frames_without_depth;
+    if (mapper) mapper->keep_frame(rec.view);
     const auto t_track = std::chrono::steady_clock::now();
     const TrackedFrame f = odometry->track(rec.view);
     const double track_s = seconds_since(t_track);
@@ -136,7 +139,11 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     result.track_ms.push_back(static_cast<float>(1e3 * track_s));
     if (mapper) {
       const auto t_map = std::chrono::steady_clock::now();
-      if (f.keyframe) mapper->add_keyframe(odometry->tracker().last_keyframe(), rec.view);
+      // A keyframe may come moving_window_frames late (the moving test): train it on its own
+      // frame, kept since.
+      if (f.keyframe && !mapper->add_keyframe(odometry->tracker().last_keyframe())) {
+        ++result.keyframes_without_view;
+      }
       mapper->step();
       result.map_s += seconds_since(t_map);
     }

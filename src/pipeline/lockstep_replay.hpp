@@ -80,10 +80,12 @@ struct ReplayResult {
   std::size_t imu_samples = 0;            ///< in the recording
   std::size_t imu_samples_fed = 0;        ///< fed before the last replayed frame
   std::int64_t frames_without_depth = 0;  ///< tracked with an all-invalid depth image
-  io::mcap::DamageReport damage;          ///< with allow_damaged: what the readers found
-  double wall_s = 0.0;                    ///< whole replay: reading, decoding, tracking
-  double track_s = 0.0;                   ///< inside Odometry::track only
-  std::vector<float> track_ms;            ///< per frame, inside Odometry::track
+  /// Keyframes not given to the mapper because their frame was no longer kept (none expected).
+  std::int64_t keyframes_without_view = 0;
+  io::mcap::DamageReport damage;  ///< with allow_damaged: what the readers found
+  double wall_s = 0.0;            ///< whole replay: reading, decoding, tracking
+  double track_s = 0.0;           ///< inside Odometry::track only
+  std::vector<float> track_ms;    ///< per frame, inside Odometry::track
   FusionMode fusion = FusionMode::fused;
   /// The map after the last frame's mapper tick (null without mapping).
   std::shared_ptr<const mapping::GaussianMap> map;

@@ -3,7 +3,8 @@
 // mapper's insertion input. The RAW kNN covariances are used: rotation from their
 // eigenvectors, and with a sample angle the footprint-sized scale and depth-confidence opacity
 // of mapping/insertion.hpp (without, GS-ICP SLAM's scales: square roots of the eigenvalues
-// divided by max(1, 2 z^1.5)). In the pipeline, which joins the two, so that neither mapping nor
+// divided by max(1, 2 z^1.5)). Points the tracker flagged moving (Keyframe::moving) are left
+// out. In the pipeline, which joins the two, so that neither mapping nor
 // tracking knows the other.
 #include "mapping/keyframe_gaussians.hpp"
 #include "tracking/gaussian_cloud.hpp"
@@ -19,11 +20,17 @@ inline mapping::KeyframeGaussians to_keyframe_gaussians(const tracking::Keyframe
   out.T_w_c = kf.T_w_c;
   out.sample_angle_rad = sample_angle_rad;
   const tracking::GaussianCloud& c = kf.cloud_c;
-  out.points_c = c.points_m;
-  out.covariances_c = c.cov_raw_m2;
+  const bool flags = kf.moving.size() == c.size();
+  out.points_c.reserve(c.size());
+  out.covariances_c.reserve(c.size());
   out.colors.reserve(c.size());
-  for (const auto& rgb : c.colors_rgb)
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (flags && kf.moving[i] != 0) continue;  // a walking person: not a map surface
+    out.points_c.push_back(c.points_m[i]);
+    out.covariances_c.push_back(c.cov_raw_m2[i]);
+    const auto& rgb = c.colors_rgb[i];
     out.colors.emplace_back(rgb[0] / 255.0f, rgb[1] / 255.0f, rgb[2] / 255.0f);
+  }
   return out;
 }
 

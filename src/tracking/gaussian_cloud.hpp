@@ -43,12 +43,12 @@ struct GaussianCloud {
 /// A keyframe for the mapper: the frame's Gaussians (camera frame) and the camera pose in
 /// world, T_w_c (p_w = T_w_c * p_c), at the frame's time stamp.
 ///
-/// `moving[i]` (same length as the cloud) is 1 for a point the tracker rejected as moving: it
-/// lies in front of the confirmed local map's nearest surface along its pixel's ray by more
-/// than tracking.moving_margin_m, i.e. where the map saw free space, as a walking person
-/// does. Such points were not inserted into the tracker's local map; the mapper should not
-/// insert them either. All zero when the test is off (moving_margin_m = 0) or at the first
-/// keyframe.
+/// `moving[i]` (same length as the cloud) is 1 for a point the tracker rejected as moving: a
+/// frame shortly before or after the keyframe measured a surface behind it along its ray by more
+/// than tracking.moving_margin_m, i.e. saw free space where the point is, as a walking person
+/// leaves (frame_history.hpp). Such points were not inserted into the tracker's local map and
+/// the pipeline does not give them to the mapper. All zero when the test is off
+/// (moving_margin_m = 0 or moving_window_frames = 0) or at the first keyframe.
 struct Keyframe {
   std::int64_t t_ns = 0;
   geometry::Pose T_w_c = geometry::Pose::Identity();

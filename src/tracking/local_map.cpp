@@ -274,47 +274,15 @@ bool LocalMap::nearest_any(const Eigen::Vector3f& q_w, float max_sq_dist,
   return found;
 }
 
-void LocalMap::render_min_depth(const PinholeCamera& camera, const geometry::Pose& T_c_w,
-                                int cell_px, int cols, int rows,
-                                std::vector<float>& depth_m) const {
-  depth_m.assign(static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows),
-                 std::numeric_limits<float>::infinity());
-  const Eigen::Matrix3f R = T_c_w.linear().cast<float>();
-  const Eigen::Vector3f t = T_c_w.translation().cast<float>();
-  const auto fx = static_cast<float>(camera.fx_px), fy = static_cast<float>(camera.fy_px);
-  const auto cx = static_cast<float>(camera.cx_px), cy = static_cast<float>(camera.cy_px);
-  const float inv_cell = 1.0f / static_cast<float>(cell_px);
-  const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
-  for (std::size_t s = 0; s < voxels_.size(); ++s) {
-    const Voxel& v = voxels_[s];
-    if (!v.used) continue;
-    for (std::size_t k = 0; k < static_cast<std::size_t>(v.count); ++k) {
-      const std::size_t at = s * P + k;
-      if (confirmed_only_ && confirmed_[at] == 0) continue;
-      const Eigen::Vector3f p = R * points_w_[at] + t;
-      if (!(p.z() > 0.05f)) continue;
-      const float u = (fx * p.x() / p.z() + cx) * inv_cell;
-      const float w = (fy * p.y() / p.z() + cy) * inv_cell;
-      if (!(u >= 0.0f && w >= 0.0f && u < static_cast<float>(cols) &&
-            w < static_cast<float>(rows))) {
-        continue;
-      }
-      float& d = depth_m[static_cast<std::size_t>(w) * static_cast<std::size_t>(cols) +
-                         static_cast<std::size_t>(u)];
-      d = std::min(d, p.z());
-    }
-  }
-}
-
 bool LocalMap::nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
-                       float& sq_dist) const {
-  return confirmed_only_ ? nearest_impl<true>(q_w, max_sq_dist, index, sq_dist)
-                         : nearest_impl<false>(q_w, max_sq_dist, index, sq_dist);
+                       float& sq_dist, std::uint32_t hint) const {
+  return confirmed_only_ ? nearest_impl<true>(q_w, max_sq_dist, index, sq_dist, hint)
+                         : nearest_impl<false>(q_w, max_sq_dist, index, sq_dist, hint);
 }
 
 template <bool kConfirmedOnly>
 bool LocalMap::nearest_impl(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
-                            float& sq_dist) const {
+                            float& sq_dist, std::uint32_t hint) const {
   const Eigen::Vector3f g = q_w * inv_voxel_;
   if (!(g.cwiseAbs().maxCoeff() < static_cast<float>(kAxisBias - 2))) {
     return false;  // outside the addressable grid (or NaN)
@@ -333,6 +301,14 @@ bool LocalMap::nearest_impl(const Eigen::Vector3f& q_w, float max_sq_dist, std::
   const auto P = static_cast<std::uint32_t>(setting_.points_per_voxel);
   float best = max_sq_dist;
   bool found = false;
+  if (hint < points_w_.size() && (!kConfirmedOnly || confirmed_[hint] != 0)) {
+    const float d2 = (points_w_[hint] - q_w).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      index = hint;
+      found = true;
+    }
+  }
   const auto scan = [&](std::int64_t dx, std::int64_t dy, std::int64_t dz) {
     const std::uint32_t slot = find(pack(c[0] + dx, c[1] + dy, c[2] + dz));
     if (slot == kEmpty) return;

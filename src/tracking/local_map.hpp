@@ -38,7 +38,6 @@
 
 #include "core/config/tracking_components.hpp"
 #include "core/geometry/se3.hpp"
-#include "core/types/pinhole_camera.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
 namespace vigs::tracking {
@@ -61,16 +60,26 @@ class LocalMap {
   void clear();
 
   // GICP target interface (world frame).
-  bool nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
-               float& sq_dist) const;
+  /// `hint` (a point index, or kNoHint): a candidate checked first, e.g. the query's match at
+  /// the previous GICP iteration; its distance bounds the voxel scan, so most neighbours are
+  /// skipped. The result is the exact nearest point either way.
+  bool nearest(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index, float& sq_dist,
+               std::uint32_t hint = kNoHint) const;
+  static constexpr std::uint32_t kNoHint = 0xffffffffu;
   [[nodiscard]] const Eigen::Vector3f& point(std::uint32_t i) const { return points_w_[i]; }
   [[nodiscard]] const Eigen::Matrix3f& cov(std::uint32_t i) const { return covs_w_[i]; }
 
-  /// Renders the confirmed map into a depth buffer seen from T_c_w: depth_m[cy * cols + cx] is
-  /// the smallest camera-frame z of the map points projecting into cell (cx, cy) of
-  /// `cell_px`-pixel cells (+infinity where none). Used for the free-space test of moving points.
-  void render_min_depth(const PinholeCamera& camera, const geometry::Pose& T_c_w, int cell_px,
-                        int cols, int rows, std::vector<float>& depth_m) const;
+  /// Calls fn(point_w) for every point held (diagnostics and tests).
+  template <class Fn>
+  void for_each_point(Fn&& fn) const {
+    const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
+    for (std::size_t s = 0; s < voxels_.size(); ++s) {
+      if (!voxels_[s].used) continue;
+      for (std::size_t k = 0; k < static_cast<std::size_t>(voxels_[s].count); ++k) {
+        fn(points_w_[s * P + k]);
+      }
+    }
+  }
   [[nodiscard]] bool confirmed(std::uint32_t i) const { return confirmed_[i] != 0; }
   [[nodiscard]] std::size_t num_confirmed() const { return num_confirmed_; }
   /// Tentative points dropped unconfirmed so far.
@@ -102,7 +111,7 @@ class LocalMap {
   bool nearest_any(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index) const;
   template <bool kConfirmedOnly>
   bool nearest_impl(const Eigen::Vector3f& q_w, float max_sq_dist, std::uint32_t& index,
-                    float& sq_dist) const;
+                    float& sq_dist, std::uint32_t hint) const;
 
   Setting setting_;
   float inv_voxel_ = 10.0f;

@@ -28,7 +28,12 @@ Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geom
       map_(setting.local_map),
       policy_{setting.keyframe},
       camera_(camera),
-      T_w_c0_(T_w_c0) {}
+      T_w_c0_(T_w_c0) {
+  if (moving_test_on()) {
+    history_ = FrameHistory(camera, 2 * setting.moving_window_frames + 1,
+                            std::max(1, setting.preprocess.depth.pixel_stride));
+  }
+}
 
 void Tracker::set_pose_prior(const geometry::Pose& T_w_c_mean, const Matrix6d& information) {
   prior_.T_mean = T_w_c_mean;
@@ -36,33 +41,6 @@ void Tracker::set_pose_prior(const geometry::Pose& T_w_c_mean, const Matrix6d& i
   // covariances without the variance scale).
   prior_.information = information * setting_.gicp_variance_scale;
   prior_pending_ = T_w_c_mean.matrix().allFinite() && information.allFinite();
-}
-
-int Tracker::flag_moving(const geometry::Pose& T_w_c) {
-  keyframe_.moving.assign(cloud_.size(), 0);
-  if (!(setting_.moving_margin_m > 0.0) || map_.num_points() == 0) return 0;
-  // The map's nearest surface per cell of 2x2 sampled pixels, from this keyframe's pose.
-  const int cell = 2 * std::max(1, setting_.preprocess.depth.pixel_stride);
-  const int cols = (camera_.width_px + cell - 1) / cell;
-  const int rows = (camera_.height_px + cell - 1) / cell;
-  map_.render_min_depth(camera_, T_w_c.inverse(), cell, cols, rows, map_depth_);
-  const auto margin = static_cast<float>(setting_.moving_margin_m);
-  const auto fx = static_cast<float>(camera_.fx_px), fy = static_cast<float>(camera_.fy_px);
-  const auto cx = static_cast<float>(camera_.cx_px), cy = static_cast<float>(camera_.cy_px);
-  int moving = 0;
-  for (std::size_t i = 0; i < cloud_.size(); ++i) {
-    const Eigen::Vector3f& p = cloud_.points_m[i];
-    if (!(p.z() > 0.0f)) continue;
-    const int u = static_cast<int>((fx * p.x() / p.z() + cx) / static_cast<float>(cell));
-    const int v = static_cast<int>((fy * p.y() / p.z() + cy) / static_cast<float>(cell));
-    if (u < 0 || v < 0 || u >= cols || v >= rows) continue;
-    const float z_map = map_depth_[static_cast<std::size_t>(v * cols + u)];
-    if (p.z() < z_map - margin) {  // infinity (no map surface there) never flags
-      keyframe_.moving[i] = 1;
-      ++moving;
-    }
-  }
-  return moving;
 }
 
 geometry::Pose Tracker::guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu,
@@ -82,14 +60,20 @@ geometry::Pose Tracker::guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu
   return T_w_last_;
 }
 
-void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
-  map_.insert(cloud_, T_w_c, &keyframe_.moving);
+void Tracker::hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
   keyframe_.t_ns = t_ns;
   keyframe_.T_w_c = T_w_c;
   keyframe_.cloud_c.points_m = cloud_.points_m;  // assignment reuses capacity
   keyframe_.cloud_c.cov_raw_m2 = cloud_.cov_raw_m2;
   keyframe_.cloud_c.cov_m2 = cloud_.cov_m2;
   keyframe_.cloud_c.colors_rgb = cloud_.colors_rgb;
+  keyframe_pending_ = frames_;
+}
+
+void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
+  map_.insert(cloud_, T_w_c, &keyframe_.moving);
+  hold_keyframe(t_ns, T_w_c);
+  keyframe_pending_ = -1;
 }
 
 TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c_imu) {
@@ -127,11 +111,26 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
       // The prior's terms are already in GICP units: divide the whole posterior by the scale.
       out.information = out.gicp.information_posterior / setting_.gicp_variance_scale;
     }
-    out.keyframe = out.pose_from_gicp &&
-                   policy_.is_keyframe(out.gicp.overlap_ratio, keyframe_.T_w_c, out.T_w_c);
-    if (out.keyframe) {
-      out.moving_points = flag_moving(out.T_w_c);
+    const bool new_keyframe =
+        out.pose_from_gicp && keyframe_pending_ < 0 &&
+        policy_.is_keyframe(out.gicp.overlap_ratio, keyframe_.T_w_c, out.T_w_c);
+    if (new_keyframe && moving_test_on()) {
+      hold_keyframe(t_ns, out.T_w_c);  // inserted once the frames after it are seen
+    } else if (new_keyframe) {
+      keyframe_.moving.assign(cloud_.size(), 0);
       make_keyframe(t_ns, out.T_w_c);
+      out.keyframe = true;
+    }
+  }
+  if (moving_test_on()) {
+    history_.record(frame, out.T_w_c, out.pose_from_gicp || frames_ == 0);
+    if (keyframe_pending_ >= 0 && frames_ - keyframe_pending_ >= setting_.moving_window_frames) {
+      out.moving_points =
+          history_.flag(keyframe_.cloud_c, keyframe_.T_w_c, keyframe_.t_ns,
+                        static_cast<float>(setting_.moving_margin_m), keyframe_.moving);
+      map_.insert(keyframe_.cloud_c, keyframe_.T_w_c, &keyframe_.moving);
+      keyframe_pending_ = -1;
+      out.keyframe = true;
     }
   }
   prior_pending_ = false;

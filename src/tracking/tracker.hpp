@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "tracking/frame_history.hpp"
 #include "tracking/gicp.hpp"
 #include "tracking/initial_guess.hpp"
 #include "tracking/keyframe_policy.hpp"
@@ -45,13 +46,17 @@ struct TrackingOutput {
   /// increment about the world origin (gicp.information / gicp_variance_scale, plus the prior's
   /// when there was one). Zero when the pose is not from GICP.
   Matrix6d information = Matrix6d::Zero();
-  int moving_points = 0;  ///< points of this keyframe flagged moving (0 for other frames)
+  /// Points of the keyframe flagged moving (0 for other frames). With the moving test on, the
+  /// keyframe (last_keyframe(): its own t_ns and T_w_c) is published moving_window_frames frames
+  /// after its own frame, once the frames after it are seen.
+  int moving_points = 0;
 };
 
 class Tracker {
  public:
   /// preprocess, gicp, local_map, keyframe, initial_guess, min_inlier_ratio, max_correction_*,
-  /// gicp_variance_scale and moving_margin_m: config/tracking_components.hpp (the defaults)
+  /// gicp_variance_scale, moving_margin_m and moving_window_frames:
+  /// config/tracking_components.hpp (the defaults)
   /// and config/tracking_settings.hpp (the robot file's keys and docs).
   struct Setting : config::TrackerSetting {
     int preprocess_threads = gicp.num_threads;
@@ -85,14 +90,23 @@ class Tracker {
   [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }
   [[nodiscard]] const LocalMap& local_map() const { return map_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
+  /// Keyframes whose moving test would have flagged most points (taken as a pose error).
+  [[nodiscard]] std::int64_t moving_suspect_keyframes() const {
+    return history_.suspect_keyframes();
+  }
   /// Preprocessing and GICP run on this one team (GICP shares it when gicp.num_threads equals
   /// preprocess_threads, as settings_from_config makes them).
   [[nodiscard]] const rt::WorkerTeam& team() const { return team_; }
 
  private:
   geometry::Pose guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu, bool& fell_back) const;
+  /// Copies the frame's cloud into keyframe_ (not yet into the map).
+  void hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
+  /// hold_keyframe, then inserts it into the local map at once.
   void make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
-  int flag_moving(const geometry::Pose& T_w_c);
+  [[nodiscard]] bool moving_test_on() const {
+    return setting_.moving_margin_m > 0.0 && setting_.moving_window_frames > 0;
+  }
 
   Setting setting_;
   rt::WorkerTeam team_;
@@ -105,7 +119,8 @@ class Tracker {
   PinholeCamera camera_;
   PosePrior prior_;
   bool prior_pending_ = false;
-  std::vector<float> map_depth_;  ///< render_min_depth buffer (moving test)
+  FrameHistory history_;      ///< recent frames' depth (moving test)
+  int keyframe_pending_ = -1;  ///< frames_ index of a keyframe not yet inserted, or -1
   int frames_ = 0;
   geometry::Pose T_w_last_ = geometry::Pose::Identity();
   geometry::Pose T_w_prev_ = geometry::Pose::Identity();

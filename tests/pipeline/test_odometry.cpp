@@ -86,6 +86,19 @@ TEST_F(SimulatedOffice, PreviousPoseBaselineDriftsWhereTheImuGuessDoesNot) {
   EXPECT_GT(ate_prev, 5.0 * 0.03);
 }
 
+TEST_F(SimulatedOffice, GicpHalvesTheImuOnlyError) {
+  // GICP must do the work: with every GICP result rejected (max_correction_m 0) the odometry
+  // is IMU dead reckoning from the same start. A no-op GICP would leave the two equal.
+  const double ate_gicp =
+      testing::camera_ate(motion_, replay(tracking::InitialGuessMode::imu).frames, cfg_).stats.rmse;
+  cfg_.tracking.max_correction_m = 0.0;
+  const ReplayResult imu_only = replay(tracking::InitialGuessMode::imu);
+  EXPECT_EQ(imu_only.counters.tracked, 0);
+  const double ate_imu = testing::camera_ate(motion_, imu_only.frames, cfg_).stats.rmse;
+  std::printf("ATE rmse: with GICP %.4f m, IMU only %.4f m\n", ate_gicp, ate_imu);
+  EXPECT_LT(ate_gicp, 0.5 * ate_imu);
+}
+
 TEST_F(SimulatedOffice, LostFramesAreImuPropagatedAndTrackingResumes) {
   constexpr std::uint64_t kGapBegin = 70, kGapEnd = 76;  // 6 frames (0.3 s) without depth
   OdometryOptions opt;

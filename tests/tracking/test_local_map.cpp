@@ -210,19 +210,40 @@ TEST(LocalMap, OnlyReobservedPointsAreConfirmedAndMovingOnesArePruned) {
   EXPECT_FALSE(masked.nearest(Eigen::Vector3f(0.4f, 0.0f, 2.15f), 0.01f, j, d2));
 }
 
-TEST(LocalMap, RenderMinDepthSeesTheNearestConfirmedSurface) {
+TEST(LocalMap, HintedNearestIsExact) {
+  // A hint (any point, near or far) only bounds the scan: the nearest point found is the same.
   LocalMap::Setting s;
   s.points_per_voxel = 64;
   LocalMap map(s);
   std::size_t person = 0;
   map.insert(wall_and_person(3, -1.0f, person), geometry::Pose::Identity());
-  PinholeCamera cam{64, 48, 40.0, 40.0, 32.0, 24.0};
-  std::vector<float> depth;
-  map.render_min_depth(cam, geometry::Pose::Identity(), 4, 16, 12, depth);
-  // Centre cell: the wall at 4 m; a cell covering the block: its front near 2 m.
-  EXPECT_NEAR(depth[6 * 16 + 8], 4.0f, 1e-3f);
-  const int u = static_cast<int>((40.0 * -0.8 / 2.1 + 32.0) / 4.0);
-  EXPECT_LT(depth[6 * 16 + u], 2.2f);
+  std::vector<Eigen::Vector3f> points;
+  map.for_each_point([&](const Eigen::Vector3f& p) { points.push_back(p); });
+  ASSERT_EQ(points.size(), map.num_points());
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> off(-0.06f, 0.06f);
+  std::uint32_t found_with = 0, hints_tried = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Eigen::Vector3f q = points[(static_cast<std::size_t>(k) * 37) % points.size()] +
+                              Eigen::Vector3f(off(rng), off(rng), off(rng));
+    std::uint32_t j0 = 0, j1 = 0, hint = 0;
+    float d0 = 0.0f, d1 = 0.0f, dh = 0.0f;
+    const bool f0 = map.nearest(q, 0.01f, j0, d0);
+    // Hint: the nearest point of a query 5 cm away (a previous iteration's match), if any.
+    if (!map.nearest(q + Eigen::Vector3f(0.05f, 0.0f, 0.0f), 0.04f, hint, dh)) {
+      hint = LocalMap::kNoHint;
+    } else {
+      ++hints_tried;
+    }
+    const bool f1 = map.nearest(q, 0.01f, j1, d1, hint);
+    ASSERT_EQ(f0, f1) << k;
+    if (f0) {
+      ++found_with;
+      EXPECT_EQ(d0, d1) << k;
+    }
+  }
+  EXPECT_GT(found_with, 200u);
+  EXPECT_GT(hints_tried, 200u);
 }
 
 }  // namespace

@@ -112,7 +112,13 @@ struct TrackerSetting {
   double max_correction_m = 0.5;
   double max_correction_deg = 30.0;
   double gicp_variance_scale = 1.0;  ///< GicpResult::information / this = metric information
-  double moving_margin_m = 0.0;      ///< Keyframe::moving test; 0 = off
+  /// Moving-point test at keyframes (tracking/frame_history.hpp, Keyframe::moving): a point is
+  /// moving when one of the `moving_window_frames` frames before or after the keyframe measured
+  /// a surface more than this behind it along its ray. 0 = off.
+  double moving_margin_m = 0.0;
+  /// Frames before and after a keyframe it is compared with; the keyframe enters the local map
+  /// (and reaches the mapper) this many frames late. 0 = off.
+  int moving_window_frames = 0;
 
   [[nodiscard]] double max_correction_rad() const { return max_correction_deg * kRadPerDeg; }
 };

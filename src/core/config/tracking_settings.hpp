@@ -71,8 +71,13 @@ struct TrackingSettings : TrackerSetting {
             {"keyframes", 1, 1000, "unconfirmed local-map points are dropped after this many"});
     v.field("moving_margin_m", moving_margin_m,
             {"m", 0.0, 10.0,
-             "keyframe points this far in front of the local map's surface along their ray "
-             "are moving (not inserted, flagged for the mapper); 0 = off"});
+             "keyframe points this far in front of the surface a frame shortly before or after "
+             "measured along their ray are moving (not inserted, flagged for the mapper); "
+             "0 = off"});
+    v.field("moving_window_frames", moving_window_frames,
+            {"frames", 0, 64,
+             "the moving test compares a keyframe with this many frames before and after it "
+             "(the keyframe reaches the map that many frames late); 0 = off"});
     v.field("fusion", fusion, {"fused", "paper"},
             "imu guess: fused = the IMU prediction and its covariance are a prior factor in "
             "GICP and a 15-state filter (pose, velocity, gyro and accel bias) is updated from "

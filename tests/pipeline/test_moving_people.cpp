@@ -1,0 +1,92 @@
+// Moving people and the tracker's free-space test against recent frames (frame_history.hpp):
+// on a simulated office with walking people, the simulator's static geometry tells which
+// points are people (distance to the nearest static surface). Used only to judge the result,
+// never by the tracker. The test must find people in the local map without the moving test, far
+// fewer with it, and the points it flags must be mostly people.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "core/config/robot_config.hpp"
+#include "sim/simulator.hpp"
+#include "tests/pipeline/sim_sequence.hpp"
+#include "tracking/settings_from_config.hpp"
+#include "tracking/tracker.hpp"
+
+namespace vigs::pipeline {
+namespace {
+
+constexpr float kPersonDistanceM = 0.05f;  // farther from every static surface: a person
+
+bool is_person(const sim::Simulator& simulator, const Eigen::Vector3f& p_w) {
+  return simulator.renderer().distance_to_static_surface(sim::Vec3f{p_w.x(), p_w.y(), p_w.z()}) >
+         kPersonDistanceM;
+}
+
+struct MapContent {
+  long map_points = 0;
+  long map_people = 0;  ///< local-map points that are people
+  long flagged = 0;     ///< keyframe points flagged moving
+  long flagged_people = 0;
+  long keyframes = 0;
+};
+
+/// Tracks `seconds` of the office with `humans` people, the ground-truth pose as the guess
+/// (so that only the map's content differs between runs), with the moving test on or off.
+MapContent track_office(int humans, double seconds, bool moving_test) {
+  config::RobotConfig cfg = testing::small_office(seconds);
+  cfg.sim.humans = humans;
+  cfg.tracking.moving_margin_m = moving_test ? 0.15 : 0.0;
+  cfg.tracking.moving_window_frames = moving_test ? 4 : 0;
+  const sim::Simulator simulator(cfg);
+  const PinholeCamera camera = simulator.camera();
+  tracking::Tracker tracker(camera, tracking::tracker_setting(cfg.tracking));
+  MapContent c;
+  sim::RgbdFrame frame;
+  ImageF32 depth(camera.width_px, camera.height_px, 1);
+  ImageU8 rgb(camera.width_px, camera.height_px, 3);
+  const int frames = static_cast<int>(seconds * cfg.camera.rate_hz);
+  for (int j = 0; j < frames; ++j) {
+    const double t_s = j / cfg.camera.rate_hz;
+    simulator.render_at(t_s, static_cast<std::uint64_t>(j), frame);
+    depth.data = frame.depth_m;
+    rgb.data = frame.color;
+    const geometry::Pose T_w_c = simulator.camera_pose(t_s);
+    const tracking::TrackingOutput out =
+        tracker.track(static_cast<std::int64_t>(j) * 50'000'000, depth, rgb, &T_w_c);
+    if (!out.keyframe) continue;
+    ++c.keyframes;
+    const tracking::Keyframe& kf = tracker.last_keyframe();
+    for (std::size_t i = 0; i < kf.moving.size(); ++i) {
+      if (kf.moving[i] == 0) continue;
+      ++c.flagged;
+      const Eigen::Vector3f p_w = (kf.T_w_c * kf.cloud_c.points_m[i].cast<double>()).cast<float>();
+      if (is_person(simulator, p_w)) ++c.flagged_people;
+    }
+  }
+  tracker.local_map().for_each_point([&](const Eigen::Vector3f& p_w) {
+    ++c.map_points;
+    if (is_person(simulator, p_w)) ++c.map_people;
+  });
+  std::printf("moving test %s: %ld keyframes, local map %ld points, %ld people; flagged %ld, "
+              "%ld of them people\n",
+              moving_test ? "on" : "off", c.keyframes, c.map_points, c.map_people, c.flagged,
+              c.flagged_people);
+  return c;
+}
+
+TEST(MovingPeople, FreeSpaceTestKeepsPeopleOutOfTheLocalMap) {
+  const MapContent off = track_office(24, 10.0, false);
+  const MapContent on = track_office(24, 10.0, true);
+  ASSERT_GT(off.map_people, 1000) << "the sequence must show people for the test to mean much";
+  EXPECT_EQ(off.flagged, 0);
+  // At least 5x fewer people points in the map, and the flagged points mostly people.
+  EXPECT_LT(5 * on.map_people, off.map_people);
+  ASSERT_GT(on.flagged, 0);
+  EXPECT_GT(on.flagged_people, 0.8 * static_cast<double>(on.flagged));
+  // Static surfaces are still mapped.
+  EXPECT_GT(on.map_points - on.map_people, (off.map_points - off.map_people) / 2);
+}
+
+}  // namespace
+}  // namespace vigs::pipeline
