@@ -68,10 +68,11 @@ MapContent track_office(int humans, double seconds, bool moving_test) {
     ++c.map_points;
     if (is_person(simulator, p_w)) ++c.map_people;
   });
-  std::printf("moving test %s: %ld keyframes, local map %ld points, %ld people; flagged %ld, "
-              "%ld of them people\n",
-              moving_test ? "on" : "off", c.keyframes, c.map_points, c.map_people, c.flagged,
-              c.flagged_people);
+  std::printf(
+      "moving test %s: %ld keyframes, local map %ld points, %ld people; flagged %ld, "
+      "%ld of them people\n",
+      moving_test ? "on" : "off", c.keyframes, c.map_points, c.map_people, c.flagged,
+      c.flagged_people);
   return c;
 }
 
