@@ -64,7 +64,7 @@ void LockstepMapper::add(const tracking::Keyframe& kf, const ImageU8& rgb, Image
   auto m = std::make_unique<mapping::MapperKeyframe>();
   m->id = next_id_++;
   m->gaussians = to_keyframe_gaussians(kf, sample_angle_rad_);
-  mapping::footprint_colours(camera_, frame, stride_px_, m->gaussians);
+  mapping::footprint_colours(camera_, rgbd_view(kf.t_ns, depth_m, rgb), stride_px_, m->gaussians);
   m->camera = mapping::RenderCamera::from(camera_, kf.T_w_c);
   m->rgb.resize(rgb.data.size());
   for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;
