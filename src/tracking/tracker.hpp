@@ -119,7 +119,7 @@ class Tracker {
   PinholeCamera camera_;
   PosePrior prior_;
   bool prior_pending_ = false;
-  FrameHistory history_;      ///< recent frames' depth (moving test)
+  FrameHistory history_;       ///< recent frames' depth (moving test)
   int keyframe_pending_ = -1;  ///< frames_ index of a keyframe not yet inserted, or -1
   int frames_ = 0;
   geometry::Pose T_w_last_ = geometry::Pose::Identity();
