@@ -82,11 +82,7 @@ std::string default_sequence(const config::RobotConfig& base, const RunArgs& a, 
                  "once -> %s\n",
                  a.seconds, a.humans, path.c_str());
   sim::Simulator simulator(cfg);
-  sim::McapSinkOptions opt;
-  opt.depth_encoding = cfg.sim.depth_encoding;
-  opt.depth_scale_m = cfg.camera.depth_scale_m;
-  opt.imu = cfg.imu;
-  sim::McapSink sink(path, opt);
+  sim::McapSink sink(path, sim::McapSinkOptions::from(cfg));
   const sim::SimStats st = simulator.run(sink, {}, nullptr);
   sink.close();
   (void)st;

@@ -108,11 +108,7 @@ void add_simulate_command(CLI::App& app, ExitCode& exit_code) {
       io::refuse_output_over_inputs(a.out, {a.config_file});
       io::refuse_output_over_inputs(a.out + ".partial", {a.config_file});
       sim::Simulator simulator(cfg);
-      sim::McapSinkOptions opt;
-      opt.depth_encoding = cfg.sim.depth_encoding;
-      opt.depth_scale_m = cfg.camera.depth_scale_m;
-      opt.imu = cfg.imu;
-      sim::McapSink sink(a.out, opt);
+      sim::McapSink sink(a.out, sim::McapSinkOptions::from(cfg));
       int last_report = -1;
       sim::SimStats stats;
       {

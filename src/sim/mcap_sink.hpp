@@ -8,7 +8,7 @@
 //   /vigs/ground_truth/body_pose  geometry_msgs/msg/PoseStamped T_w_b, frame "world"
 #include <string>
 
-#include "core/config/imu_settings.hpp"
+#include "core/config/robot_config.hpp"
 #include "io/recording/recording_writer.hpp"
 #include "sim/sim_sink.hpp"
 
@@ -19,6 +19,16 @@ struct McapSinkOptions {
   double depth_scale_m = 0.001;          ///< metres per 16UC1 unit
   int zstd_level = 1;
   config::ImuSettings imu;  ///< for the published noise covariances
+
+  /// What `vigs simulate` writes for `cfg`: sim.depth_encoding, camera.depth_scale_m and the
+  /// imu: section, with the default zstd level.
+  static McapSinkOptions from(const config::RobotConfig& cfg) {
+    McapSinkOptions o;
+    o.depth_encoding = cfg.sim.depth_encoding;
+    o.depth_scale_m = cfg.camera.depth_scale_m;
+    o.imu = cfg.imu;
+    return o;
+  }
 };
 
 class McapSink : public SimSink {

@@ -62,11 +62,7 @@ class TempDir {
 /// Simulates `cfg` into `path` (as `vigs simulate` does).
 inline void simulate(const config::RobotConfig& cfg, const std::string& path) {
   sim::Simulator simulator(cfg);
-  sim::McapSinkOptions opt;
-  opt.depth_encoding = cfg.sim.depth_encoding;
-  opt.depth_scale_m = cfg.camera.depth_scale_m;
-  opt.imu = cfg.imu;
-  sim::McapSink sink(path, opt);
+  sim::McapSink sink(path, sim::McapSinkOptions::from(cfg));
   simulator.run(sink);
   sink.close();
 }
