@@ -241,33 +241,57 @@ void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c,
 bool LocalMap::nearest_any(const Eigen::Vector3f& q_w, float max_sq_dist,
                            std::uint32_t& index) const {
   // Points of earlier keyframes only: those of the current one carry the current stamp.
-  float d2 = 0.0f;
   const auto cur = static_cast<std::uint32_t>(stamp_);
   const Eigen::Vector3f g = q_w * inv_voxel_;
   const std::int64_t c[3] = {static_cast<std::int64_t>(std::floor(g.x())),
                              static_cast<std::int64_t>(std::floor(g.y())),
                              static_cast<std::int64_t>(std::floor(g.z()))};
+  const auto voxel = static_cast<float>(setting_.voxel_m);
+  // Distance from q to the lower / upper face of its voxel, per axis: a voxel d steps away
+  // along an axis is at least (face + (|d| - 1) voxel) away along it.
+  float lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = (g[a] - static_cast<float>(c[a])) * voxel;
+    hi[a] = voxel - lo[a];
+  }
+  const auto gap2 = [&](int a, std::int64_t d) {
+    if (d == 0) return 0.0f;
+    const float f = (d < 0 ? lo[a] : hi[a]) + static_cast<float>((d < 0 ? -d : d) - 1) * voxel;
+    return f * f;
+  };
   const auto P = static_cast<std::uint32_t>(setting_.points_per_voxel);
   float best = max_sq_dist;
   bool found = false;
-  // confirm_distance_m <= voxel_m is not required: scan as many voxels as the radius needs.
+  const auto scan = [&](std::int64_t dx, std::int64_t dy, std::int64_t dz) {
+    const std::uint32_t slot = find(pack(c[0] + dx, c[1] + dy, c[2] + dz));
+    if (slot == kEmpty) return;
+    const std::uint32_t base = slot * P;
+    const auto n = static_cast<std::uint32_t>(voxels_[slot].count);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      if (born_[base + k] == cur) continue;
+      const float d2 = (points_w_[base + k] - q_w).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        index = base + k;
+        found = true;
+      }
+    }
+  };
+  // confirm_distance_m <= voxel_m is not required: scan as many voxels as the radius needs,
+  // the home voxel first, and skip every voxel wholly beyond the best distance so far (the
+  // result is the exact nearest either way).
   const auto reach = static_cast<std::int64_t>(std::ceil(std::sqrt(max_sq_dist) * inv_voxel_));
+  scan(0, 0, 0);
   for (std::int64_t dx = -reach; dx <= reach; ++dx) {
+    const float bx = gap2(0, dx);
+    if (bx >= best) continue;
     for (std::int64_t dy = -reach; dy <= reach; ++dy) {
+      const float by = bx + gap2(1, dy);
+      if (by >= best) continue;
       for (std::int64_t dz = -reach; dz <= reach; ++dz) {
-        const std::uint32_t slot = find(pack(c[0] + dx, c[1] + dy, c[2] + dz));
-        if (slot == kEmpty) continue;
-        const std::uint32_t base = slot * P;
-        const auto n = static_cast<std::uint32_t>(voxels_[slot].count);
-        for (std::uint32_t k = 0; k < n; ++k) {
-          if (born_[base + k] == cur) continue;
-          d2 = (points_w_[base + k] - q_w).squaredNorm();
-          if (d2 < best) {
-            best = d2;
-            index = base + k;
-            found = true;
-          }
-        }
+        if (dx == 0 && dy == 0 && dz == 0) continue;
+        if (by + gap2(2, dz) >= best) continue;
+        scan(dx, dy, dz);
       }
     }
   }

@@ -65,7 +65,7 @@ void FramePreprocessor::covariances(GaussianCloud& out, KdTree* tree) {
     return;
   }
   if (tree == nullptr) {
-    fallback_tree_.build(out.points_m);
+    fallback_tree_.build(out.points_m, team_);  // the team is idle here: both halves at once
     tree = &fallback_tree_;
   }
   estimate_covariances_of(*tree, setting_.covariance, fallback_points_, out);
