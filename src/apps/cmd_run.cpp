@@ -44,6 +44,7 @@ extern "C" void on_run_stop_signal(int sig) {
 struct RunArgs {
   std::string source = "default", config_file, out = "results";
   bool lockstep = false, no_map = false, quiet = false, no_report = false;
+  bool through_drivers = false;
   std::int64_t frames = 0;
   double seconds = 10.0;
   int humans = 4;
@@ -113,6 +114,16 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   s["status_published"] = r.status_published;
   s["memory_lock"] = r.memory_lock;
   s["stopped_by_signal"] = r.stopped_by_signal;
+  if (r.camera_driver) s["camera_driver"] = drivers::to_json_value(*r.camera_driver);
+  if (r.imu_driver) s["imu_driver"] = r.imu_driver->to_json_value();
+  if (mode.find("drivers") != std::string::npos) {
+    s["host_minus_recording_ns"] = r.host_minus_recording_ns;
+    s["feeder"] = io::Json{{"imu_samples_written", r.feeder.imu_samples_written},
+                           {"imu_samples_withheld", r.feeder.imu_samples_withheld},
+                           {"imu_messages_corrupted", r.feeder.imu_messages_corrupted},
+                           {"late_samples", r.feeder.late_samples},
+                           {"camera_returns", r.feeder.camera_returns}};
+  }
   return s;
 }
 
@@ -143,6 +154,11 @@ int run_command(const RunArgs& a) {
   } else {
     throw std::runtime_error("--source must be default, live or replay:FILE.mcap, not '" +
                              a.source + "'");
+  }
+  if (a.through_drivers) {
+    if (o.recording.empty()) throw std::runtime_error("--through-drivers needs a recording");
+    o.through_drivers = true;
+    mode += "+drivers";
   }
   if (a.lockstep) mode += "+lockstep";
   io::refuse_output_dir_over_inputs(a.out, {o.recording, a.config_file});
@@ -220,6 +236,9 @@ void add_run_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_flag("--lockstep", a.lockstep,
                 "each stage waits for the next: nothing drops, two runs give the same "
                 "trajectory (needs a recording)");
+  cmd->add_flag("--through-drivers", a.through_drivers,
+                "recording: play it through the real drivers in real time (an .oni clip "
+                "through OpenNI2, the IMU as Xsens bytes on a pseudo-terminal)");
   cmd->add_flag("--no-map", a.no_map, "no mapper task");
   cmd->add_option("--frames", a.frames, "recording: only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);

@@ -97,9 +97,9 @@ struct OniClipWriter::Impl {
   std::vector<std::vector<std::uint8_t>> rgb;
   bool closed = false;
 
-  std::uint64_t timestamp_us(std::size_t frame) const {
-    return 1000 + frame * 1'000'000ull / settings.fps;  // never 0: OniFile skips ts 0 frame 0
-  }
+  std::vector<std::uint64_t> t_us;  // per frame, strictly increasing, > 0
+
+  std::uint64_t timestamp_us(std::size_t frame) const { return t_us[frame]; }
 
   void add_node(std::vector<std::uint8_t>& out, std::uint32_t node, std::string_view name,
                 std::int32_t type, std::uint64_t oni_format, std::uint32_t bytes_per_pixel) const {
@@ -189,7 +189,17 @@ OniClipWriter::~OniClipWriter() = default;
 
 void OniClipWriter::add_frame(std::span<const std::uint16_t> depth_mm,
                               std::span<const std::uint8_t> rgb) {
+  add_frame_at(uniform_timestamp_us(impl_->depth.size(), impl_->settings.fps), depth_mm, rgb);
+}
+
+void OniClipWriter::add_frame_at(std::uint64_t t_us, std::span<const std::uint16_t> depth_mm,
+                                 std::span<const std::uint8_t> rgb) {
   Impl& m = *impl_;
+  if (t_us == 0 || (!m.t_us.empty() && t_us <= m.t_us.back())) {
+    throw IoError("ONI clip " + m.path + ": frame " + std::to_string(m.depth.size()) +
+                  " timestamp " + std::to_string(t_us) +
+                  " us is not after the previous one (or is 0)");
+  }
   const std::size_t n = std::size_t{m.settings.width} * m.settings.height;
   if (m.closed) throw IoError("ONI clip " + m.path + ": add_frame after close");
   if (depth_mm.size() != n || rgb.size() != 3 * n) {
@@ -200,6 +210,7 @@ void OniClipWriter::add_frame(std::span<const std::uint16_t> depth_mm,
   }
   m.depth.emplace_back(depth_mm.begin(), depth_mm.end());
   m.rgb.emplace_back(rgb.begin(), rgb.end());
+  m.t_us.push_back(t_us);
 }
 
 void OniClipWriter::close() {
