@@ -41,6 +41,10 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   };
   s["track_ms_p50"] = percentile(0.5);
   s["track_ms_p99"] = percentile(0.99);
+  long gicp_iterations = 0;
+  for (const pipeline::TrackedFrame& f : r.frames) gicp_iterations += f.gicp_iterations;
+  s["gicp_iterations_mean"] =
+      n > 1 ? num(static_cast<double>(gicp_iterations) / (frames - 1.0)) : io::Json(nullptr);
   s["tracked"] = c.tracked;
   s["not_converged"] = c.not_converged;
   s["degenerate"] = c.degenerate;

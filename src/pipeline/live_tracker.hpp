@@ -19,8 +19,9 @@
 // stream stopped: the IMU frontend extrapolates its last reading until samples return).
 // Lockstep waits are bounded (wait_timeout_ns): a stage that does not move in that time fails
 // the tracker with a message naming the ring instead of hanging.
-// After warm-up the tick's own code does not allocate, lock or log; Odometry::track still grows
-// the tracking buffers when a frame has more points than any before (src/pipeline/README.md).
+// After warm-up the tick does not allocate, lock or log: the tracking buffers are sized for a
+// whole frame when the Odometry is made (test_tracker_alloc counts operator new over 200
+// frames on this thread and the tracker's worker).
 #include <atomic>
 #include <cstdint>
 #include <optional>

@@ -7,6 +7,16 @@
 
 namespace vigs::tracking {
 
+DepthToPoints::DepthToPoints(const PinholeCamera& camera, const Setting& setting)
+    : camera_(camera), setting_(setting) {
+  if (setting_.voxel_size_m > 0.0) {
+    const auto stride = static_cast<std::size_t>(std::max(1, setting_.pixel_stride));
+    const auto w = static_cast<std::size_t>(std::max(0, camera.width_px));
+    const auto h = static_cast<std::size_t>(std::max(0, camera.height_px));
+    voxel_keys_.reserve(((w + stride - 1) / stride) * ((h + stride - 1) / stride));
+  }
+}
+
 namespace {
 
 void check_sizes(const RgbdView& frame, const PinholeCamera& camera) {

@@ -29,8 +29,9 @@ class DepthToPoints {
   using Setting = config::DepthToPointsSetting;
 
   DepthToPoints() = default;
-  DepthToPoints(const PinholeCamera& camera, const Setting& setting)
-      : camera_(camera), setting_(setting) {}
+  /// With the voxel grid on, its scratch is sized for a whole frame here (convert() then does
+  /// not allocate on a real-time thread).
+  DepthToPoints(const PinholeCamera& camera, const Setting& setting);
 
   /// One frame's depth (metres, or raw units times the view's scale) and colour (black when
   /// the view has none). Output: points_m and colors_rgb of `out` (covariances are cleared).

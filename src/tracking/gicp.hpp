@@ -81,6 +81,9 @@ class Gicp {
   template <class Target>
   GicpResult align(const Target& target, const GaussianCloud& source,
                    const geometry::Pose& T_t_s_init, const PosePrior* prior = nullptr);
+  /// Sizes the per-point buffers for sources of up to `max_points` points (align() of no more
+  /// then does not allocate).
+  void reserve(std::size_t max_points) { hints_.reserve(max_points); }
 
   [[nodiscard]] const Setting& setting() const { return setting_; }
 

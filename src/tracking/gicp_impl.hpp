@@ -10,6 +10,8 @@
 namespace vigs::tracking {
 
 inline constexpr std::size_t kBlock = 256;  ///< source points per work block
+/// A refused step smaller than this many convergence eps ends the search (converged).
+inline constexpr double kRefusedStepEps = 1.5;
 
 template <class Target>
 Gicp::Linearization Gicp::linearize(const Target& target, const GaussianCloud& source,
@@ -96,7 +98,10 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
   int iterations = 0;
   while (iterations < setting_.max_iterations && lin.inliers >= setting_.min_inliers) {
     ++iterations;
-    const Matrix6d A = lin.H + lambda * Matrix6d::Identity();
+    // Marquardt damping, relative to H's own diagonal: lambda means the same whatever the
+    // number of points and the units of each coordinate.
+    Matrix6d A = lin.H;
+    A.diagonal() += lambda * lin.H.diagonal().cwiseMax(1e-12);
     const Vector6d dx = A.ldlt().solve(-lin.b);
     if (!dx.allFinite()) {
       break;
@@ -121,8 +126,16 @@ GicpResult Gicp::align(const Target& target, const GaussianCloud& source,
       lin = lin_new;
       lambda = std::max(lambda * 0.1, 1e-12);
     } else {
-      lambda = std::max(lambda, 1e-6) * 10.0;
-      if (lambda > 1e6) {
+      // The cost rose. Near the optimum that is the correspondences switching, not the
+      // quadratic model failing: a refused step within a few eps of converged ends the search
+      // at the current pose instead of damping it down step by refused step.
+      if (dx.head<3>().norm() < kRefusedStepEps * setting_.rotation_eps_rad() &&
+          dx.tail<3>().norm() < kRefusedStepEps * setting_.translation_eps_m) {
+        converged = true;
+        break;
+      }
+      lambda = std::max(lambda * 10.0, 1e-3);
+      if (lambda > 1e3) {
         // No descent direction left: the current pose is a (local) minimum.
         converged = dx.head<3>().norm() < 10.0 * setting_.rotation_eps_rad() &&
                     dx.tail<3>().norm() < 10.0 * setting_.translation_eps_m;

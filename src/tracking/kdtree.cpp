@@ -32,6 +32,26 @@ struct NearestResult {
 
 }  // namespace
 
+void KdTree::reserve(std::size_t max_points) {
+  const std::size_t leaf = static_cast<std::size_t>(std::max(1, setting_.leaf_size));
+  // Median splits leave at least half a leaf in each leaf: at most 2n/leaf leaves, so fewer
+  // than 4n/leaf + 1 nodes; each leaf pads to kLane.
+  const std::size_t nodes = 4 * (max_points / leaf + 1) + 1;
+  build_.reserve(max_points);
+  points_.reserve(max_points);
+  index_.reserve(max_points);
+  slot_of_.reserve(max_points);
+  leaf_of_slot_.reserve(max_points);
+  nodes_.reserve(nodes);
+  right_nodes_.reserve(nodes);
+  cells_.reserve(nodes);
+  const std::size_t padded = max_points + nodes * kLane;
+  x_.reserve(padded);
+  y_.reserve(padded);
+  z_.reserve(padded);
+  block_index_.reserve(padded);
+}
+
 void KdTree::build(const std::vector<Eigen::Vector3f>& points, rt::WorkerTeam* team) {
   const auto n = static_cast<std::uint32_t>(points.size());
   build_.resize(n);

@@ -28,6 +28,9 @@ class KdTree {
   /// team of 2+ threads the two halves below the root are built in parallel; the tree is
   /// the same either way.
   void build(const std::vector<Eigen::Vector3f>& points, rt::WorkerTeam* team = nullptr);
+  /// Sizes every buffer for up to `max_points` points, so that build() of no more points does
+  /// not allocate (real-time callers reserve at start-up).
+  void reserve(std::size_t max_points);
 
   /// The k (<= kMaxK) nearest points to q, nearest first: original indices and squared
   /// distances (m^2). Returns how many were found (< k only when the tree is smaller). Ties

@@ -1,11 +1,29 @@
 #include "tracking/preprocess.hpp"
 
+#include <algorithm>
+
 namespace vigs::tracking {
 
 FramePreprocessor::FramePreprocessor(const PinholeCamera& camera, const Setting& setting,
                                      rt::WorkerTeam& team)
     : depth_(camera, setting.depth), setting_(setting), team_(&team), fallback_tree_(setting.tree) {
+  // Every buffer sized for a whole frame now: a frame with more points than any before it
+  // must not allocate on the tracker's thread.
+  const std::size_t n = max_points();
   pending_.resize(static_cast<std::size_t>(team.size()));
+  for (std::vector<std::uint32_t>& part : pending_) part.reserve(n);
+  fallback_points_.reserve(n);
+  fallback_tree_.reserve(n);
+  grid_.point_at.reserve(n);
+  grid_.cell_of.reserve(n);
+}
+
+std::size_t FramePreprocessor::max_points() const {
+  const auto stride = static_cast<std::size_t>(std::max(1, setting_.depth.pixel_stride));
+  const PinholeCamera& c = depth_.camera();
+  const auto w = static_cast<std::size_t>(std::max(0, c.width_px));
+  const auto h = static_cast<std::size_t>(std::max(0, c.height_px));
+  return ((w + stride - 1) / stride) * ((h + stride - 1) / stride);
 }
 
 DepthToPointsStats FramePreprocessor::process(const RgbdView& frame, GaussianCloud& out) {

@@ -48,6 +48,8 @@ class FramePreprocessor {
   /// Points of the last processed frame whose neighbours the image search could not certify
   /// (found with the kd-tree instead); 0 with KnnSearch::kd_tree.
   [[nodiscard]] std::size_t last_knn_fallbacks() const { return last_fallbacks_; }
+  /// The most points a frame of this camera can give (every stride-th pixel valid).
+  [[nodiscard]] std::size_t max_points() const;
   [[nodiscard]] const PixelGrid& last_grid() const { return grid_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
 

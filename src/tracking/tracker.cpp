@@ -29,6 +29,14 @@ Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geom
       policy_{setting.keyframe},
       camera_(camera),
       T_w_c0_(T_w_c0) {
+  // Sized for a whole frame at start-up: track() does not allocate afterwards.
+  const std::size_t n = pre_.max_points();
+  cloud_.reserve(n);
+  source_.points_m.reserve(n);
+  source_.cov_m2.reserve(n);
+  keyframe_.cloud_c.reserve(n);
+  keyframe_.moving.reserve(n);
+  gicp_.reserve(n);
   if (moving_test_on()) {
     history_ = FrameHistory(camera, 2 * setting.moving_window_frames + 1,
                             std::max(1, setting.preprocess.depth.pixel_stride));
@@ -58,6 +66,30 @@ geometry::Pose Tracker::guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu
       break;
   }
   return T_w_last_;
+}
+
+const GaussianCloud& Tracker::gicp_source() {
+  const auto stride = static_cast<std::size_t>(std::max(1, setting_.gicp_source_stride));
+  if (stride == 1) return cloud_;
+  source_.points_m.clear();  // keeps capacity (reserved for the whole grid at construction)
+  source_.cov_m2.clear();
+  const auto take = [&](std::size_t i) {
+    source_.points_m.push_back(cloud_.points_m[i]);
+    source_.cov_m2.push_back(cloud_.cov_m2[i]);
+  };
+  const PixelGrid& grid = pre_.last_grid();
+  if (grid.describes(cloud_.size())) {
+    const auto w = static_cast<std::size_t>(grid.width);
+    for (std::size_t row = 0; row < static_cast<std::size_t>(grid.height); row += stride) {
+      for (std::size_t col = 0; col < w; col += stride) {
+        const std::int32_t i = grid.point_at[row * w + col];
+        if (i >= 0) take(static_cast<std::size_t>(i));
+      }
+    }
+  } else {
+    for (std::size_t i = 0; i < cloud_.size(); i += stride * stride) take(i);
+  }
+  return source_;
 }
 
 void Tracker::hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
@@ -91,7 +123,8 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
   } else {
     out.T_w_c_guess = guess(t_ns, T_w_c_imu, out.guess_fell_back);
     out.prior_used = prior_pending_;
-    out.gicp = gicp_.align(map_, cloud_, out.T_w_c_guess, prior_pending_ ? &prior_ : nullptr);
+    out.gicp =
+        gicp_.align(map_, gicp_source(), out.T_w_c_guess, prior_pending_ ? &prior_ : nullptr);
     out.degenerate = out.gicp.degenerate_directions > 0;
     const geometry::PoseError correction = geometry::pose_error(out.T_w_c_guess, out.gicp.T_t_s);
     if (out.gicp.verdict == GicpVerdict::diverged ||

@@ -114,7 +114,12 @@ class Tracker {
   Gicp gicp_;
   LocalMap map_;
   KeyframePolicy policy_;
+  /// Fills source_ with GICP's share of cloud_ (gicp_source_stride); returns the cloud GICP
+  /// aligns (cloud_ itself at stride 1).
+  const GaussianCloud& gicp_source();
+
   GaussianCloud cloud_;
+  GaussianCloud source_;  ///< points and covariances of cloud_'s GICP subset
   Keyframe keyframe_;
   PinholeCamera camera_;
   PosePrior prior_;

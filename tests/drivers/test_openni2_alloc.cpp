@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "counting_new.hpp"
+#include "../common/counting_new.hpp"
 #include "drivers/openni2/openni2_driver.hpp"
 #include "io/oni/oni_clip_writer.hpp"
 

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <string>
 
-#include "counting_new.hpp"
+#include "../common/counting_new.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "pty_feeder.hpp"
 #include "rt/clock.hpp"

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "counting_new.hpp"
+#include "../common/counting_new.hpp"
 #include "drivers/v4l2/v4l2_rgbd_driver.hpp"
 #include "fake_v4l2_device.hpp"
 

@@ -38,6 +38,7 @@ MapContent track_office(int humans, double seconds, bool moving_test) {
   cfg.sim.humans = humans;
   cfg.tracking.moving_margin_m = moving_test ? 0.15 : 0.0;
   cfg.tracking.moving_window_frames = moving_test ? 4 : 0;
+  cfg.tracking.gicp_source_stride = 1;  // keyframe timing as when the people bound was set
   const sim::Simulator simulator(cfg);
   const PinholeCamera camera = simulator.camera();
   tracking::Tracker tracker(camera, tracking::tracker_setting(cfg.tracking));

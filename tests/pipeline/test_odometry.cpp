@@ -74,6 +74,13 @@ TEST_F(SimulatedOffice, ImuGuessTracksEveryFrameWithCentimetreAte) {
   // Bound: 3 cm RMSE over ~3 m of walking.
   EXPECT_LT(ate.stats.rmse, 0.03);
   EXPECT_LT(ate.stats.max, 0.08);
+  // The IMU guess starts GICP close: a few linearisations a frame, not a damping ladder of
+  // refused steps (gicp_impl.hpp).
+  double iterations = 0;
+  for (std::size_t i = 1; i < r.frames.size(); ++i) iterations += r.frames[i].gicp_iterations;
+  iterations /= static_cast<double>(r.frames.size() - 1);
+  std::printf("GICP iterations per frame: %.2f\n", iterations);
+  EXPECT_LT(iterations, 5.0);
 }
 
 TEST_F(SimulatedOffice, PreviousPoseBaselineDriftsWhereTheImuGuessDoesNot) {

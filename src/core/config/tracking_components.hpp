@@ -112,6 +112,9 @@ struct TrackerSetting {
   double max_correction_m = 0.5;
   double max_correction_deg = 30.0;
   double gicp_variance_scale = 1.0;  ///< GicpResult::information / this = metric information
+  /// GICP aligns every n-th cell of the frame's pixel grid in x and y (every n^2-th point of
+  /// an unorganised cloud); covariances, the local map and keyframes keep every point.
+  int gicp_source_stride = 2;
   /// Moving-point test at keyframes (tracking/frame_history.hpp, Keyframe::moving): a point is
   /// moving when one of the `moving_window_frames` frames before or after the keyframe measured
   /// a surface more than this behind it along its ray. 0 = off.

@@ -32,6 +32,10 @@ struct TrackingSettings : TrackerSetting {
     v.field("knn_search", preprocess.covariance.knn_search, kKnnSearchNames,
             "how covariance neighbours are found: through the depth image (exact, kd-tree where "
             "uncertified) or a kd-tree");
+    v.field("gicp_source_stride", gicp_source_stride,
+            {"cells", 1, 16,
+             "GICP aligns every n-th sampled point in x and y (n^2 fewer); covariances, the "
+             "local map and keyframes keep every point"});
     v.field("max_correspondence_distance_m", gicp.max_correspondence_distance_m,
             {"m", 1e-4, 100.0, "nearest neighbours farther than this are outliers"});
     v.field("robust_kernel", gicp.kernel, kRobustKernelNames,

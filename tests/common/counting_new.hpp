@@ -1,6 +1,6 @@
 #pragma once
-// Allocation counting for the driver no-allocation tests. Linking counting_new.cpp into a test
-// binary replaces the global operator new / delete: every operator new first calls
+// Allocation counting for the no-allocation tests (drivers, tracker). Linking counting_new.cpp into
+// a test binary replaces the global operator new / delete: every operator new first calls
 // on_operator_new(bytes, caller), which that test defines, then takes the memory from malloc.
 // Memory taken with malloc directly is not seen.
 #include <cstddef>
