@@ -74,6 +74,14 @@ DriverReplay::DriverReplay(const DriverReplaySettings& settings) : s_(settings) 
   make_clips();
 }
 
+std::string DriverReplay::cached_clip_path(const std::string& recording) {
+  return fs::path(recording).replace_extension(".drivers.oni").string();
+}
+
+bool DriverReplay::clip_cached(const std::string& recording) {
+  return fresh(cached_clip_path(recording), recording);
+}
+
 DriverReplay::~DriverReplay() {
   stop();
   if (!temp_dir_.empty()) {
@@ -86,8 +94,7 @@ void DriverReplay::make_clips() {
   const DriverReplayFaults& f = s_.faults;
   if (!f.camera_gone() && s_.max_frames == 0) {
     // The whole recording's clip, cached next to it (or in a temp folder if that fails).
-    fs::path cached = s_.recording;
-    cached.replace_extension(".drivers.oni");
+    fs::path cached = cached_clip_path(s_.recording);
     if (!fresh(cached, s_.recording)) {
       try {
         (void)io::oni::make_oni_from_mcap(s_.recording, cached.string(), clip_options(0));
@@ -124,8 +131,7 @@ void DriverReplay::make_clips() {
 
 void DriverReplay::start(const drivers::Openni2Driver& camera) {
   if (thread_) return;
-  thread_.emplace(s_.feeder_thread,
-                  [this, &camera](std::stop_token st) { run(st, camera); });
+  thread_.emplace(s_.feeder_thread, [this, &camera](std::stop_token st) { run(st, camera); });
 }
 
 void DriverReplay::stop() {
@@ -190,7 +196,8 @@ void DriverReplay::run(const std::stop_token& stop, const drivers::Openni2Driver
       if (!sleep_until(return_t_ns_ + offset_ns, stop)) return;
       std::error_code ec;
       fs::rename(return_clip_path_, clip_path_, ec);  // the camera is back
-      if (ec) return fail("through the drivers: cannot put " + clip_path_ + " back: " + ec.message());
+      if (ec)
+        return fail("through the drivers: cannot put " + clip_path_ + " back: " + ec.message());
       returns_.add();
       returned = true;
     }
@@ -201,10 +208,11 @@ void DriverReplay::run(const std::stop_token& stop, const drivers::Openni2Driver
       withheld_.add();
       continue;
     }
-    const auto stf = static_cast<std::uint32_t>(static_cast<std::uint64_t>((s.t_ns - t0) / kTickNs));
-    std::vector<std::uint8_t> msg = drivers::xsens::encode_mtdata2(
-        stf, {s.accel_mps2[0], s.accel_mps2[1], s.accel_mps2[2]},
-        {s.gyro_rps[0], s.gyro_rps[1], s.gyro_rps[2]});
+    const auto stf =
+        static_cast<std::uint32_t>(static_cast<std::uint64_t>((s.t_ns - t0) / kTickNs));
+    std::vector<std::uint8_t> msg =
+        drivers::xsens::encode_mtdata2(stf, {s.accel_mps2[0], s.accel_mps2[1], s.accel_mps2[2]},
+                                       {s.gyro_rps[0], s.gyro_rps[1], s.gyro_rps[2]});
     if (f.corrupt_every > 0 && ++messages % static_cast<std::uint64_t>(f.corrupt_every) == 0) {
       msg[msg.size() / 2] ^= 0x5A;  // inside the payload: the checksum no longer matches
       corrupted_.add();

@@ -50,9 +50,9 @@ class Openni2Driver;
 namespace vigs::pipeline {
 
 struct DriverReplayFaults {
-  std::int64_t imu_pause_at_ns = -1;  ///< recording time after the first frame; < 0: never
-  std::int64_t imu_pause_ns = 0;      ///< the IMU sends nothing for this long
-  int corrupt_every = 0;              ///< flip one byte of every Nth IMU message; 0: none
+  std::int64_t imu_pause_at_ns = -1;    ///< recording time after the first frame; < 0: never
+  std::int64_t imu_pause_ns = 0;        ///< the IMU sends nothing for this long
+  int corrupt_every = 0;                ///< flip one byte of every Nth IMU message; 0: none
   std::int64_t camera_gone_at_ns = -1;  ///< recording time after the first frame; < 0: never
   std::int64_t camera_gone_ns = 0;      ///< the camera returns with the frame this much later
   [[nodiscard]] bool camera_gone() const noexcept { return camera_gone_at_ns >= 0; }
@@ -81,6 +81,10 @@ class DriverReplay {
   ~DriverReplay();  // stops the feeder; removes the temporary folder
   DriverReplay(const DriverReplay&) = delete;
   DriverReplay& operator=(const DriverReplay&) = delete;
+
+  /// Where the clip of `recording` is cached, and whether it is there and newer than it.
+  [[nodiscard]] static std::string cached_clip_path(const std::string& recording);
+  [[nodiscard]] static bool clip_cached(const std::string& recording);
 
   [[nodiscard]] const std::string& clip_path() const noexcept { return clip_path_; }
   [[nodiscard]] const std::string& imu_port() const noexcept { return pty_.slave_path(); }

@@ -162,7 +162,8 @@ TEST_F(ThroughDrivers, EveryPoseReachesAnotherProcessInOrderAndTheAteHolds) {
   for (const io::Json& line : json_lines(echo.output())) {
     ASSERT_LT(i, n);
     const io::Json& stamp = line["msg"]["header"]["stamp"];
-    const std::int64_t t = stamp["sec"].get<std::int64_t>() * kS + stamp["nanosec"].get<std::int64_t>();
+    const std::int64_t t =
+        stamp["sec"].get<std::int64_t>() * kS + stamp["nanosec"].get<std::int64_t>();
     EXPECT_EQ(t, r.replay.frames[i].t_ns + r.host_minus_recording_ns) << "pose " << i;
     ++i;
   }
@@ -175,8 +176,8 @@ TEST_F(ThroughDrivers, EveryPoseReachesAnotherProcessInOrderAndTheAteHolds) {
   // 0.041 m), so the bound is 8 cm. (The ATE barely sees the IMU's timing: with the IMU
   // written 50 ms late it measured the same 0.0065 m; the stamps above check the clocks.)
   const eval::AteResult ate = testing::camera_ate(*motion_, r.replay.frames, cfg);
-  std::printf("through the drivers: %zu of %zu frames, ATE rmse %.4f m, real-time factor %.2f\n",
-              n, stamps_->size(), ate.stats.rmse, r.real_time_factor);
+  std::printf("through the drivers: %zu of %zu frames, ATE rmse %.4f m, real-time factor %.2f\n", n,
+              stamps_->size(), ate.stats.rmse, r.real_time_factor);
   EXPECT_LT(ate.stats.rmse, 0.08);
 }
 
@@ -218,10 +219,9 @@ TEST_F(ThroughDrivers, ImuSilentForOneSecondIsFlaggedAndRecovers) {
   EXPECT_LE(recovered_at, to + kS / 2) << "recovered within half a second";
   EXPECT_GE(flagged, 5u);
   EXPECT_EQ(r.tracker.imu_unavailable,
-            static_cast<std::uint64_t>(std::count_if(r.pose_flags.begin(), r.pose_flags.end(),
-                                                     [](std::uint32_t f) {
-                                                       return (f & kPoseFlagImuUnavailable) != 0;
-                                                     })));
+            static_cast<std::uint64_t>(
+                std::count_if(r.pose_flags.begin(), r.pose_flags.end(),
+                              [](std::uint32_t f) { return (f & kPoseFlagImuUnavailable) != 0; })));
   EXPECT_GE(after, 10u);
   EXPECT_FALSE(r.stopped_by_signal);
   EXPECT_TRUE(r.camera_driver->end_of_stream);
@@ -263,7 +263,8 @@ TEST_F(ThroughDrivers, CorruptSerialBytesAreResyncedCountedAndInTheStatus) {
   std::uint64_t reported = 0;
   for (const io::Json& line : json_lines(echo.output())) {
     for (const io::Json& f : line["msg"]["faults"])
-      if (f["name"] == "imu.bad_checksum") reported = std::max(reported, f["count"].get<std::uint64_t>());
+      if (f["name"] == "imu.bad_checksum")
+        reported = std::max(reported, f["count"].get<std::uint64_t>());
   }
   EXPECT_GT(reported, 0u) << echo.output();
   EXPECT_LE(reported, r.imu_driver->bad_checksum);

@@ -3,8 +3,8 @@
 // thread, which plays the `tracker` periodic task) and on the tracker's worker thread
 // (`tracker_w1`), once 40 frames have been tracked, over the next 200 frames of a simulated
 // office with walking people (the point count changes every frame) in lockstep, in both
-// fusion modes, with IMU guesses and keyframes handed to a mapper slot queue. The first few offending call sites are
-// kept and printed (`addr2line -Cfe FILE OFFSET` names them).
+// fusion modes, with IMU guesses and keyframes handed to a mapper slot queue. The first few
+// offending call sites are kept and printed (`addr2line -Cfe FILE OFFSET` names them).
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
@@ -124,8 +124,9 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
   for (long k = 0; k < std::min<long>(n, static_cast<long>(g_callers.size())); ++k) {
     void* caller = g_callers[static_cast<std::size_t>(k)].load();
     Dl_info info{};
-    const auto base = ::dladdr(caller, &info) != 0 ? reinterpret_cast<std::uintptr_t>(info.dli_fbase)
-                                                   : std::uintptr_t{0};
+    const auto base = ::dladdr(caller, &info) != 0
+                          ? reinterpret_cast<std::uintptr_t>(info.dli_fbase)
+                          : std::uintptr_t{0};
     std::printf("allocation %ld from %s+0x%zx\n", k, info.dli_fname ? info.dli_fname : "?",
                 static_cast<std::size_t>(reinterpret_cast<std::uintptr_t>(caller) - base));
   }

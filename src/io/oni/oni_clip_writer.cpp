@@ -136,7 +136,8 @@ struct OniClipWriter::Impl {
     RecordBuilder(out, kNodeStateReady, node).finish();
   }
 
-  std::vector<std::uint8_t> build() const {
+  // Everything before the first frame record.
+  std::vector<std::uint8_t> header() const {
     const auto frames = static_cast<std::uint32_t>(depth.size());
     std::vector<std::uint8_t> out;
     ByteWriter w(out);
@@ -156,21 +157,41 @@ struct OniClipWriter::Impl {
       r.fields().put(timestamp_us(frames - 1));
       r.finish();
     }
-    for (std::uint32_t f = 0; f < frames; ++f) {
+    return out;
+  }
+
+  // Frame f's record for `node` (0 depth, 1 colour), into `out` (cleared first).
+  void frame_record(std::uint32_t f, std::uint32_t node, std::vector<std::uint8_t>& out) const {
+    out.clear();
+    RecordBuilder r(out, kNewData, node);
+    r.fields().put(timestamp_us(f));
+    r.fields().put(f + 1);  // frame numbers start at 1
+    if (node == 0) {
+      r.finish(std::span(reinterpret_cast<const std::uint8_t*>(depth[f].data()),
+                         depth[f].size() * sizeof(std::uint16_t)));
+    } else {
+      r.finish(rgb[f]);
+    }
+  }
+
+  // The whole file, one record at a time (never a second copy of the clip in memory).
+  void write(std::FILE* file) const {
+    const auto put = [file](const std::vector<std::uint8_t>& bytes) {
+      if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size()) {
+        throw IoError("short write");
+      }
+    };
+    put(header());
+    std::vector<std::uint8_t> record;
+    for (std::uint32_t f = 0; f < static_cast<std::uint32_t>(depth.size()); ++f) {
       for (std::uint32_t node = 0; node < 2; ++node) {
-        RecordBuilder r(out, kNewData, node);
-        r.fields().put(timestamp_us(f));
-        r.fields().put(f + 1);  // frame numbers start at 1
-        if (node == 0) {
-          r.finish(std::span(reinterpret_cast<const std::uint8_t*>(depth[f].data()),
-                             depth[f].size() * sizeof(std::uint16_t)));
-        } else {
-          r.finish(rgb[f]);
-        }
+        frame_record(f, node, record);
+        put(record);
       }
     }
-    RecordBuilder(out, kEnd, 0).finish();
-    return out;
+    record.clear();
+    RecordBuilder(record, kEnd, 0).finish();
+    put(record);
   }
 };
 
@@ -217,13 +238,8 @@ void OniClipWriter::close() {
   Impl& m = *impl_;
   if (m.closed) return;
   if (m.depth.empty()) throw IoError("ONI clip " + m.path + ": no frames added");
-  const std::vector<std::uint8_t> bytes = m.build();
   try {
-    write_file_atomically(m.path, [&](std::FILE* f) {
-      if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size()) {
-        throw IoError("short write");
-      }
-    });
+    write_file_atomically(m.path, [&](std::FILE* f) { m.write(f); });
   } catch (const std::exception& e) {
     throw IoError("ONI clip " + m.path + ": " + e.what());
   }

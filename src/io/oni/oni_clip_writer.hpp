@@ -18,8 +18,10 @@ struct OniClipSettings {
 
 /// Writes a short uncompressed RGB-D `.oni` clip that real OpenNI2 plays back
 /// (`openni::Device::open(path)`, PlaybackControl, depth PIXEL_FORMAT_DEPTH_1_MM and colour
-/// PIXEL_FORMAT_RGB888 streams). Frames are kept in memory and the file is written atomically
-/// (temp file, then rename) by close(): clips are test fixtures of a few frames, not recordings.
+/// PIXEL_FORMAT_RGB888 streams). Frames are kept in memory (one copy: close() writes them
+/// record by record; 720x480 is 1.7 MB a frame) and the file is written atomically (temp file,
+/// then rename) by close(): clips are test fixtures and the short sequences `vigs run` replays
+/// through the drivers, not long recordings.
 class OniClipWriter {
  public:
   /// Throws IoError if the settings are invalid (zero size, fps 0).
