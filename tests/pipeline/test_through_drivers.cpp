@@ -16,7 +16,6 @@
 #include <signal.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <set>
 #include <sstream>
@@ -36,13 +35,7 @@ constexpr double kSeconds = 5.0;
 constexpr std::int64_t kS = 1'000'000'000;
 
 config::RobotConfig drivers_config() {
-  config::RobotConfig cfg = testing::small_office(kSeconds);
-  cfg.rt.lock_memory = false;  // tests: no mlockall, no SCHED_FIFO, no pinning
-  cfg.rt.realtime_priorities = false;
-  cfg.rt.pin_cpus = false;
-  cfg.dds.enabled = false;
-  cfg.mapping.threads = 1;
-  return cfg;
+  return testing::live_test_config(kSeconds);
 }
 
 class ThroughDrivers : public ::testing::Test {
@@ -77,27 +70,6 @@ testing::TempDir* ThroughDrivers::dir_ = nullptr;
 RecordedMotion* ThroughDrivers::motion_ = nullptr;
 std::vector<std::int64_t>* ThroughDrivers::stamps_ = nullptr;
 
-/// Reads a child's stdout while a run lasts (a full 64 KiB pipe would stall its listener).
-class Drainer {
- public:
-  explicit Drainer(dds::test::ChildProcess& child)
-      : thread_([this, &child] {
-          while (running_.load()) {
-            (void)child.output();
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-          }
-        }) {}
-  ~Drainer() { stop(); }
-  void stop() {
-    running_.store(false);
-    if (thread_.joinable()) thread_.join();
-  }
-
- private:
-  std::atomic<bool> running_{true};
-  std::thread thread_;
-};
-
 std::vector<io::Json> json_lines(const std::string& text) {
   std::vector<io::Json> out;
   std::istringstream lines(text);
@@ -119,7 +91,7 @@ TEST_F(ThroughDrivers, EveryPoseReachesAnotherProcessInOrderAndTheAteHolds) {
   o.wait_for_subscribers = 1;
   dds::test::ChildProcess echo(
       {VIGS_BIN, "echo", "rt/vigs/pose", "--domain", std::to_string(kDomain), "--timeout", "0"});
-  Drainer drainer(echo);
+  dds::test::OutputDrainer drainer(echo);
   const LiveResult r = run_live(cfg, o);
   drainer.stop();
   const std::size_t n = r.replay.frames.size();
@@ -238,7 +210,7 @@ TEST_F(ThroughDrivers, CorruptSerialBytesAreResyncedCountedAndInTheStatus) {
   o.driver_faults.corrupt_every = 25;
   dds::test::ChildProcess echo(
       {VIGS_BIN, "echo", "rt/vigs/status", "--domain", std::to_string(kDomain), "--timeout", "0"});
-  Drainer drainer(echo);
+  dds::test::OutputDrainer drainer(echo);
   const LiveResult r = run_live(cfg, o);
   drainer.stop();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
