@@ -26,7 +26,8 @@ struct RgbdDriverCounters {
   std::uint64_t timeouts = 0;            // waits that saw no frame within wait_timeout_ms
   std::uint64_t clock_reanchors = 0;     // device time went backwards (DeviceClock)
   std::uint64_t playback_skipped = 0;    // real-time .oni playback: depth frames OpenNI2's player
-                                         // replaced before the driver read them
+                                         // replaced (or wrapped past at the clip's end) before
+                                         // the driver read them
   // Life cycle (DeviceStateMachine): one counter per fault kind.
   std::uint64_t opens = 0;           // successful opens (start() included)
   std::uint64_t open_failures = 0;   // failed (re)open attempts

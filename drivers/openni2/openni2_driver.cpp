@@ -336,6 +336,9 @@ void Openni2Driver::stream_step() noexcept {
   }
   if (is_file() && (d.clip_restarted || (d.frames_this_open[kDepth] >= clip_depth_frames_ &&
                                          d.frames_this_open[kColour] >= clip_colour_frames_))) {
+    // Real time: the player may have wrapped past the last frames before they were read.
+    const auto last = static_cast<std::uint64_t>(std::max(d.last_index[kDepth], 0));
+    if (last < clip_depth_frames_) playback_skipped_.add(clip_depth_frames_ - last);
     machine_.on_end_of_stream();
   } else {
     (void)machine_.check_timeout(now_ns);

@@ -98,7 +98,9 @@ class DriverReplay {
 
   /// Host CLOCK_MONOTONIC minus recording time, once the camera has anchored.
   [[nodiscard]] std::optional<std::int64_t> host_minus_recording_ns() const noexcept;
-  /// The feeder gave up (no camera anchor in time) or a write failed; empty otherwise.
+  /// The feeder gave up (no camera frame within anchor_timeout_ns) or a write failed.
+  [[nodiscard]] bool failed() const noexcept { return failed_.load(std::memory_order_acquire); }
+  /// Why, once failed(); empty otherwise.
   [[nodiscard]] std::string error() const;
   [[nodiscard]] DriverReplayCounters counters() const noexcept;
 

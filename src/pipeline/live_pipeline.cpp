@@ -201,7 +201,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       out.stopped_by_signal = true;
       break;
     }
-    if (tracker.failed()) break;
+    if (tracker.failed() || (replay && replay->failed())) break;
     drain();
     const std::int64_t now = rt::monotonic_ns();
     if (now >= next_status) {
