@@ -13,6 +13,8 @@ FrameHistory::FrameHistory(const PinholeCamera& camera, int frames, int cell_px)
   for (Slot& s : slots_) {
     s.depth_m.assign(static_cast<std::size_t>(cols_) * static_cast<std::size_t>(rows_), 0.0f);
   }
+  // A keyframe has at most one point per cell: flag() then never allocates.
+  hit_.reserve(static_cast<std::size_t>(cols_) * static_cast<std::size_t>(rows_));
 }
 
 void FrameHistory::record(const RgbdView& frame, const geometry::Pose& T_w_c, bool valid) {

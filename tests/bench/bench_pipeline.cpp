@@ -11,8 +11,10 @@
 // iteration is enough; the sequence is simulated once per camera rate (not timed).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
+#include <vector>
 
 #include "pipeline/lockstep_replay.hpp"
 #include "tests/pipeline/sim_sequence.hpp"
@@ -72,6 +74,53 @@ void BM_ReplayOffice(benchmark::State& state) {
 BENCHMARK(BM_ReplayOffice)
     ->ArgNames({"camera_hz", "guess"})
     ->ArgsProduct({{20, 5}, {0, 1, 2}})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);
+
+// The tracker at the paper's scale: 10 s of the office at 720x480 (pixel stride 4, about
+// 21,600 points a frame) with 4 walking people, the IMU guess, no mapping; range(0) is
+// tracking.gicp_source_stride (1: GICP aligns every point, the baseline; 2: the default).
+// Reports the per-frame tracking time's median and p99 (the goal: 15 / 30 ms on 2
+// threads) and the ATE.
+void BM_TrackOffice720(benchmark::State& state) {
+  static TempDir dir;
+  static config::RobotConfig cfg;
+  static std::string path;
+  static pipeline::RecordedMotion motion;
+  if (path.empty()) {
+    cfg.sim.preset = "office";
+    cfg.sim.humans = 4;
+    cfg.sim.seconds = 10.0;
+    path = dir.file("office_720x480.mcap");
+    pipeline::testing::simulate(cfg, path);
+    motion = pipeline::read_recorded_motion(path);
+  }
+  config::RobotConfig run = cfg;
+  run.tracking.gicp_source_stride = static_cast<int>(state.range(0));
+  pipeline::ReplayResult r;
+  for (auto _ : state) {
+    r = pipeline::replay_recording(path, run, {});
+    benchmark::DoNotOptimize(r.frames.data());
+  }
+  std::vector<float> ms = r.track_ms;
+  std::sort(ms.begin(), ms.end());
+  const auto at = [&ms](double q) {
+    return ms.empty() ? 0.0
+                      : static_cast<double>(ms[static_cast<std::size_t>(q * (ms.size() - 1))]);
+  };
+  double iterations = 0;
+  for (const pipeline::TrackedFrame& f : r.frames) iterations += f.gicp_iterations;
+  state.counters["track_ms_p50"] = at(0.5);
+  state.counters["track_ms_p99"] = at(0.99);
+  state.counters["gicp_iterations"] = iterations / static_cast<double>(r.frames.size());
+  state.counters["ate_rmse_m"] = pipeline::testing::camera_ate(motion, r.frames, run).stats.rmse;
+  state.counters["frames"] = static_cast<double>(r.frames.size());
+}
+BENCHMARK(BM_TrackOffice720)
+    ->ArgName("gicp_source_stride")
+    ->Arg(1)
+    ->Arg(2)
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kSecond);

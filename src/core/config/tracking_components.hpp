@@ -104,8 +104,22 @@ struct KeyframeSetting {
 /// What Tracker::Setting holds beyond its threads (tracking/tracker.hpp).
 struct TrackerSetting {
   PreprocessSetting preprocess;
-  GicpSetting gicp;
-  LocalMapSetting local_map;
+  /// Against a local map in a place with walking people (uHumans), the tracker's GICP departs
+  /// from the generic defaults above: matches within 5 cm only, and a bounded kernel
+  /// (Geman-McClure), so a person matched to the wall behind him pulls almost nothing.
+  GicpSetting gicp = [] {
+    GicpSetting g;
+    g.max_correspondence_distance_m = 0.05;
+    g.kernel = RobustKernel::geman_mcclure;
+    return g;
+  }();
+  /// A local-map point is used once a later keyframe re-observed it within 5 cm: a walking
+  /// person is not where he was a keyframe ago.
+  LocalMapSetting local_map = [] {
+    LocalMapSetting m;
+    m.confirm_distance_m = 0.05;
+    return m;
+  }();
   KeyframeSetting keyframe;
   InitialGuessMode initial_guess = InitialGuessMode::imu;
   double min_inlier_ratio = 0.3;
@@ -118,10 +132,10 @@ struct TrackerSetting {
   /// Moving-point test at keyframes (tracking/frame_history.hpp, Keyframe::moving): a point is
   /// moving when one of the `moving_window_frames` frames before or after the keyframe measured
   /// a surface more than this behind it along its ray. 0 = off.
-  double moving_margin_m = 0.0;
+  double moving_margin_m = 0.15;
   /// Frames before and after a keyframe it is compared with; the keyframe enters the local map
   /// (and reaches the mapper) this many frames late. 0 = off.
-  int moving_window_frames = 0;
+  int moving_window_frames = 4;
 
   [[nodiscard]] double max_correction_rad() const { return max_correction_deg * kRadPerDeg; }
 };
