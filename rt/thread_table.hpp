@@ -66,7 +66,7 @@ struct ThreadSpec {
 // takes the tracker's priority on the CPU the tracker does not use: it runs the other half of
 // each parallel region, preempted only by the drivers. Members beyond 1 (more tracking.num_threads
 // or mapping.threads than CPUs) are named `<task>_w<m>`, with the same priority and no pinning.
-inline constexpr std::array<ThreadSpec, 9> kThreadTable{{
+inline constexpr std::array<ThreadSpec, 10> kThreadTable{{
     // Edge stamps from the GPIO frame-sync line; wakes on each line event.
     {.name = "gpio_trigger", .sched_fifo_priority = 85, .cpu = 0, .period_ns = 0},
     // Serial IMU: termios reads, parses samples, pushes ImuSample (up to 1 kHz).
@@ -86,6 +86,9 @@ inline constexpr std::array<ThreadSpec, 9> kThreadTable{{
     {.name = "dds_pub", .sched_fifo_priority = 0, .cpu = 0, .period_ns = ms_to_ns(10)},
     // Drains its tap rings into MCAP (zstd, disk I/O): SCHED_OTHER, any CPU.
     {.name = "recorder", .sched_fifo_priority = 0, .cpu = -1, .period_ns = ms_to_ns(20)},
+    // `vigs run --through-drivers` only: writes the recording's IMU bytes into the pty on time.
+    // It stands in for the sensor, which shares no CPU with the pipeline: above every thread.
+    {.name = "sensor_replay", .sched_fifo_priority = 90, .cpu = -1, .period_ns = 0},
 }};
 
 // The table entry called `name`, or nullptr.

@@ -9,6 +9,8 @@
 
 #include <cstdint>
 
+#include "io/json_text.hpp"
+
 namespace vigs::drivers {
 
 struct RgbdDriverCounters {
@@ -23,6 +25,9 @@ struct RgbdDriverCounters {
   std::uint64_t read_errors = 0;         // waitForAnyStream / readFrame failures
   std::uint64_t timeouts = 0;            // waits that saw no frame within wait_timeout_ms
   std::uint64_t clock_reanchors = 0;     // device time went backwards (DeviceClock)
+  std::uint64_t playback_skipped = 0;    // real-time .oni playback: depth frames OpenNI2's player
+                                         // replaced (or wrapped past at the clip's end) before
+                                         // the driver read them
   // Life cycle (DeviceStateMachine): one counter per fault kind.
   std::uint64_t opens = 0;           // successful opens (start() included)
   std::uint64_t open_failures = 0;   // failed (re)open attempts
@@ -34,5 +39,8 @@ struct RgbdDriverCounters {
   std::uint64_t tap_dropped = 0;     // recorder tap full: a delivered or dropped pair not recorded
   bool end_of_stream = false;        // the stream has ended (clip end or final fault)
 };
+
+/// {"depth_read": N, ..., "end_of_stream": B} (`vigs rgbd play`, `vigs run`'s stats.json).
+[[nodiscard]] io::Json to_json_value(const RgbdDriverCounters& c);
 
 }  // namespace vigs::drivers

@@ -34,6 +34,8 @@ class DeviceClock {
     return t_ns;
   }
 
+  // Host minus device time of the current anchor, ns (0 before the first frame).
+  [[nodiscard]] std::int64_t offset_ns() const noexcept { return offset_ns_; }
   // Times the device clock went backwards and the map was re-anchored.
   [[nodiscard]] std::uint64_t reanchors() const noexcept { return reanchors_; }
   void reset() noexcept { *this = DeviceClock{}; }

@@ -147,8 +147,10 @@ void Openni2Driver::open_device() {
     is_file_.store(is_file, std::memory_order_relaxed);
     if (is_file) {
       openni::PlaybackControl* playback = d.device.getPlaybackControl();
-      if (playback == nullptr || playback->setSpeed(-1) != openni::STATUS_OK) {
-        throw Openni2Error(what + ": cannot switch playback to lockstep (setSpeed(-1))");
+      const auto speed = static_cast<float>(settings_.playback_speed);
+      if (playback == nullptr || playback->setSpeed(speed) != openni::STATUS_OK) {
+        throw Openni2Error(what + ": cannot set the playback speed (setSpeed(" +
+                           std::to_string(speed) + "))");
       }
       // Repeat stays on: with it off, OpenNI2 2.2's player thread spins after the End record
       // and closing the streams crashes libOniFile now and then (tests/io/test_oni_playback.cpp).
@@ -246,11 +248,12 @@ void Openni2Driver::start() {
   for (rt::SingleWriterCounter* c :
        {&depth_read_, &colour_read_, &frames_read_, &delivered_, &dropped_ring_full_,
         &dropped_pool_empty_, &unpaired_, &size_mismatch_, &read_errors_, &timeouts_,
-        &clock_reanchors_, &reopens_}) {
+        &clock_reanchors_, &playback_skipped_, &reopens_}) {
     c->reset();
   }
   tap_.reset();
   end_of_stream_.store(false, std::memory_order_relaxed);
+  host_minus_device_ns_.store(kNoAnchor, std::memory_order_relaxed);
 
   rt::ThreadSpec spec = rt::thread_spec("rgbd_driver");
   if (!settings_.realtime_thread) spec.sched_fifo_priority = 0;
@@ -333,6 +336,9 @@ void Openni2Driver::stream_step() noexcept {
   }
   if (is_file() && (d.clip_restarted || (d.frames_this_open[kDepth] >= clip_depth_frames_ &&
                                          d.frames_this_open[kColour] >= clip_colour_frames_))) {
+    // Real time: the player may have wrapped past the last frames before they were read.
+    const auto last = static_cast<std::uint64_t>(std::max(d.last_index[kDepth], 0));
+    if (last < clip_depth_frames_) playback_skipped_.add(clip_depth_frames_ - last);
     machine_.on_end_of_stream();
   } else {
     (void)machine_.check_timeout(now_ns);
@@ -408,6 +414,10 @@ bool Openni2Driver::read_one(int s) noexcept {
       d.clip_restarted = true;
       return false;
     }
+    // Real time: the player replaces a frame nobody read in time (numbers start at 1).
+    if (s == kDepth && d.incoming.getFrameIndex() > d.last_index[s] + 1)
+      playback_skipped_.add(
+          static_cast<std::uint64_t>(d.incoming.getFrameIndex() - d.last_index[s] - 1));
     d.last_index[s] = d.incoming.getFrameIndex();
   }
   (s == kDepth ? depth_read_ : colour_read_).add();
@@ -464,6 +474,7 @@ void Openni2Driver::emit_pair() noexcept {
       clock_.to_host_ns(static_cast<std::int64_t>(d.pending[kDepth].getTimestamp()),
                         std::max(d.pending_read_ns[kDepth], d.pending_read_ns[kColour]));
   clock_reanchors_.add(clock_.reanchors() - clock_reanchors_.get());
+  host_minus_device_ns_.store(clock_.offset_ns(), std::memory_order_release);
   if (trigger_ != nullptr) {
     if (const auto edge = trigger_->match(t_ns)) t_ns = *edge;
     t_ns = std::max(t_ns, last_synced_t_ns_ + 1);  // mixed edge / device stamps stay ordered
@@ -524,6 +535,7 @@ RgbdDriverCounters Openni2Driver::counters() const noexcept {
   c.read_errors = read_errors_.get();
   c.timeouts = timeouts_.get();
   c.clock_reanchors = clock_reanchors_.get();
+  c.playback_skipped = playback_skipped_.get();
   const DeviceStateCounters m = machine_.counters();
   c.opens = m.opens;
   c.open_failures = m.open_failures;

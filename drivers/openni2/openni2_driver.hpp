@@ -26,8 +26,10 @@
 // hanging. Reopening runs OpenNI2's open path on the driver thread (it allocates); that is a
 // recovery path, not the per-frame one.
 //
-// Playback: Device::open(path), setSpeed(-1) (lockstep: OpenNI2 delivers every recorded frame,
-// one per read, never skipping), repeat left on (see the .cpp), no seek. After the clip's last
+// Playback: Device::open(path), setSpeed(playback_speed): -1 (the default) is lockstep (OpenNI2
+// delivers every recorded frame, one per read, never skipping); 1.0 is real time (OpenNI2's
+// player paces the frames by their recorded timestamps, as a sensor would; `vigs run
+// --through-drivers`). Repeat left on (see the .cpp), no seek. After the clip's last
 // frame (or a final fault) the driver sets end_of_stream(), pushes an invalid FrameHandle as the
 // end-of-stream marker (retrying every millisecond until the consumer makes room, or stop()) and
 // its thread ends.
@@ -90,6 +92,7 @@ struct Openni2DriverSettings {
   bool reopen_files = false;     ///< reopen a .oni path whose playback stalled (tests, re-recorded
                                  ///< clips); false: a stalled clip ends the stream as failed
   bool wait_for_device = false;  ///< start() does not open: the thread keeps trying (backoff)
+  double playback_speed = -1.0;  ///< .oni: -1 = lockstep (every frame), 1 = real time
 };
 
 /// Driver settings from the robot config (camera.device, camera.width_px, camera.height_px,
@@ -141,6 +144,14 @@ class Openni2Driver {
   /// Once end_of_stream() with a fault: what failed, naming the URI (empty otherwise).
   [[nodiscard]] std::string fault_message() const;
 
+  /// Host CLOCK_MONOTONIC minus device time (ns) of the current clock anchor (DeviceClock): a
+  /// frame of device time d is stamped d + this. Empty before the first frame; a reopen or a
+  /// device clock going back re-anchors it. Any thread.
+  [[nodiscard]] std::optional<std::int64_t> host_minus_device_ns() const noexcept {
+    const std::int64_t v = host_minus_device_ns_.load(std::memory_order_acquire);
+    return v == kNoAnchor ? std::nullopt : std::optional<std::int64_t>(v);
+  }
+
   /// Counter snapshot; callable from any thread at any time.
   [[nodiscard]] RgbdDriverCounters counters() const noexcept;
   /// What the OS granted the read thread (valid while running).
@@ -191,8 +202,11 @@ class Openni2Driver {
   rt::SingleWriterCounter read_errors_;
   rt::SingleWriterCounter timeouts_;
   rt::SingleWriterCounter clock_reanchors_;
+  rt::SingleWriterCounter playback_skipped_;
   rt::SingleWriterCounter reopens_;
   std::atomic<bool> end_of_stream_{false};
+  static constexpr std::int64_t kNoAnchor = INT64_MIN;
+  std::atomic<std::int64_t> host_minus_device_ns_{kNoAnchor};
   std::optional<PinnedStackThread> thread_;
 };
 

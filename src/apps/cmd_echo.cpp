@@ -3,6 +3,9 @@
 // with ROS 2's field names, like `ros2 topic echo`, for users without ROS. Without TOPIC: all
 // five VIGS topics. TOPIC may be a wire name (rt/vigs/pose) or a ROS 2 name (/vigs/pose); a
 // topic outside the VIGS set is echoed when its discovered type is one of VIGS's types.
+// --receipt adds "received_ns": CLOCK_MONOTONIC when the sample reached this process (a pose
+// stamped in the same host clock, as `vigs run` live or --through-drivers stamps it, then gives
+// the frame-to-receipt latency).
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -17,6 +20,7 @@
 #include "dds/json_sample.hpp"
 #include "dds/subscriber.hpp"
 #include "dds/topic_catalog.hpp"
+#include "rt/clock.hpp"
 
 namespace vigs::apps {
 namespace {
@@ -27,6 +31,7 @@ struct EchoOptions {
   int domain = kNoDomainOverride;
   int count = 0;         // 0: until interrupted
   double timeout_s = 0;  // 0: none
+  bool receipt = false;
 };
 
 std::atomic<bool> g_interrupted{false};
@@ -36,13 +41,15 @@ extern "C" void on_signal(int) {
 
 class Printer {
  public:
-  explicit Printer(int count) : count_(count) {}
+  Printer(int count, bool receipt) : count_(count), receipt_(receipt) {}
   template <class Msg>
   std::function<void(const Msg&)> callback(const std::string& topic, const std::string& type) {
     return [this, topic, type](const Msg& m) {
+      const std::int64_t received_ns = rt::monotonic_ns();
       std::lock_guard l(mutex_);
       if (count_ > 0 && printed_ >= count_) return;
-      const nlohmann::json line = {{"topic", topic}, {"type", type}, {"msg", dds::to_json(m)}};
+      nlohmann::json line = {{"topic", topic}, {"type", type}, {"msg", dds::to_json(m)}};
+      if (receipt_) line["received_ns"] = received_ns;
       std::cout << line.dump() << '\n' << std::flush;
       ++printed_;
       if (count_ > 0 && printed_ >= count_) done_.notify_all();
@@ -65,6 +72,7 @@ class Printer {
   std::mutex mutex_;
   std::condition_variable done_;
   int count_;
+  bool receipt_;
   int printed_ = 0;
 };
 
@@ -105,7 +113,7 @@ int run_echo(const EchoOptions& o) {
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
-  Printer printer(o.count);
+  Printer printer(o.count, o.receipt);
   dds::Subscriber sub(cfg, "vigs_echo");
   if (o.topic.empty()) {
     for (const auto& [name, type] : known) subscribe_typed(sub, printer, name, type);
@@ -163,6 +171,8 @@ void add_echo_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--timeout", o->timeout_s, "give up after S seconds, exit 1 (0: never)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--receipt", o->receipt,
+                "add \"received_ns\": CLOCK_MONOTONIC at the sample's arrival, ns");
   cmd->callback([o, &exit_code] {
     try {
       exit_code.value = run_echo(*o);

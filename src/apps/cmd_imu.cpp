@@ -1,11 +1,6 @@
 // `vigs imu listen` and `vigs imu play`: check a serial IMU (wiring, baud, protocol, faults)
 // without the pipeline, and play an IMU CSV as Xsens wire bytes on a pseudo-terminal so the
 // real driver can be tried without hardware.
-#include <fcntl.h>
-#include <stdlib.h>
-#include <termios.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -22,6 +17,7 @@
 #include "core/config/default_config.hpp"
 #include "core/config/yaml_loader.hpp"
 #include "drivers/serial_imu/euroc_imu_csv.hpp"
+#include "drivers/serial_imu/pseudo_terminal.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "drivers/serial_imu/xsens_encoder.hpp"
 #include "io/json_text.hpp"
@@ -130,19 +126,8 @@ int run_play(const PlayOptions& o) {
                                io::json_line(io::Json(o.max_gap_s)) + " s");
     }
   }
-  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
-  if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0) {
-    throw std::system_error(errno, std::generic_category(), "posix_openpt");
-  }
-  const std::string slave = ::ptsname(master);
-  // Hold the slave open in raw mode, so the line stays configured until a reader opens it.
-  const int hold = ::open(slave.c_str(), O_RDWR | O_NOCTTY);
-  termios tio{};
-  if (hold < 0 || ::tcgetattr(hold, &tio) != 0) {
-    throw std::system_error(errno, std::generic_category(), "open " + slave);
-  }
-  ::cfmakeraw(&tio);
-  ::tcsetattr(hold, TCSANOW, &tio);
+  drivers::PseudoTerminal pty;  // the slave held open raw until a reader opens it
+  const std::string& slave = pty.slave_path();
   std::cout << io::json_line({{"pty", slave},
                               {"samples", rows.size()},
                               {"duration_s",
@@ -160,19 +145,13 @@ int run_play(const PlayOptions& o) {
         drivers::xsens::encode_mtdata2(stf, {r.accel_mps2[0], r.accel_mps2[1], r.accel_mps2[2]},
                                        {r.gyro_rps[0], r.gyro_rps[1], r.gyro_rps[2]});
     rt::sleep_until_ns(start_ns + dt_ns);
-    std::size_t done = 0;
-    while (done < msg.size()) {
-      const ssize_t n = ::write(master, msg.data() + done, msg.size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) throw std::system_error(errno, std::generic_category(), "write to pty master");
-      done += static_cast<std::size_t>(n);
-    }
-    bytes += done;
+    if (!pty.write_all(msg))
+      throw std::system_error(errno, std::generic_category(), "write to pty master");
+    bytes += msg.size();
   }
   // Give a reader time to drain before the hang-up discards unread bytes.
   rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(200));
-  ::close(master);
-  ::close(hold);
+  pty.close_master();
   std::cout << io::json_line({{"bytes_written", bytes}}) << std::endl;
   return 0;
 }

@@ -25,28 +25,6 @@ struct PlayOptions {
   int frame_timeout_ms = 2000;
 };
 
-io::Json counters_json(const drivers::RgbdDriverCounters& c) {
-  return {{"depth_read", c.depth_read},
-          {"colour_read", c.colour_read},
-          {"frames_read", c.frames_read},
-          {"delivered", c.delivered},
-          {"dropped_ring_full", c.dropped_ring_full},
-          {"dropped_pool_empty", c.dropped_pool_empty},
-          {"unpaired", c.unpaired},
-          {"size_mismatch", c.size_mismatch},
-          {"read_errors", c.read_errors},
-          {"timeouts", c.timeouts},
-          {"clock_reanchors", c.clock_reanchors},
-          {"opens", c.opens},
-          {"open_failures", c.open_failures},
-          {"losses", c.losses},
-          {"frame_timeouts", c.frame_timeouts},
-          {"error_resets", c.error_resets},
-          {"device_gone", c.device_gone},
-          {"reopens", c.reopens},
-          {"end_of_stream", c.end_of_stream}};
-}
-
 int run_play(const PlayOptions& o) {
   const auto cfg = o.config_file.empty()
                        ? config::load_config_text(config::default_config_text(),
@@ -98,7 +76,7 @@ int run_play(const PlayOptions& o) {
                               {"height_px", s.height_px},
                               {"state", std::string(drivers::to_string(driver.state()))},
                               {"fault", std::string(drivers::to_string(driver.fault()))},
-                              {"counters", counters_json(c)}})
+                              {"counters", drivers::to_json_value(c)}})
             << "\n";
   if (driver.fault() != drivers::DeviceFault::kNone) {
     // The frames before the fault were printed; the stream did not end cleanly.

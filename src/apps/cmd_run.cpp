@@ -3,9 +3,12 @@
 // stats.json, report.md with plots).
 //  - no arguments: the main job on the built-in default. A short office sequence (the default
 //    robot's 720x480 camera at 20 Hz, IMU at 200 Hz, people walking) is simulated once and
-//    cached, then played into the rings in real time with mapping on and DDS on loopback;
-//  - --source replay:F.mcap: that recording instead; --lockstep: nothing drops, same result
-//    twice;
+//    cached, then played through the real drivers in real time (pipeline/driver_replay.hpp:
+//    an .oni clip through OpenNI2, the IMU as Xsens bytes on a pty) with mapping on and DDS on
+//    loopback;
+//  - --source replay:F.mcap: that recording, played straight into the rings in real time, or
+//    with --through-drivers as the default is; --lockstep: straight into the rings, nothing
+//    drops, same result twice;
 //  - --source live (with --config ROBOT.yaml): the robot's OpenNI2 camera and serial IMU.
 // SIGINT / SIGTERM: the rings are drained and the RESULTS_DIR written whole (atomically), exit 0;
 // a second signal exits at once (what was already renamed into place stays complete).
@@ -44,6 +47,7 @@ extern "C" void on_run_stop_signal(int sig) {
 struct RunArgs {
   std::string source = "default", config_file, out = "results";
   bool lockstep = false, no_map = false, quiet = false, no_report = false;
+  bool through_drivers = false;
   std::int64_t frames = 0;
   double seconds = 10.0;
   int humans = 4;
@@ -113,6 +117,16 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   s["status_published"] = r.status_published;
   s["memory_lock"] = r.memory_lock;
   s["stopped_by_signal"] = r.stopped_by_signal;
+  if (r.camera_driver) s["camera_driver"] = drivers::to_json_value(*r.camera_driver);
+  if (r.imu_driver) s["imu_driver"] = r.imu_driver->to_json_value();
+  if (mode.find("drivers") != std::string::npos) {
+    s["host_minus_recording_ns"] = r.host_minus_recording_ns;
+    s["feeder"] = io::Json{{"imu_samples_written", r.feeder.imu_samples_written},
+                           {"imu_samples_withheld", r.feeder.imu_samples_withheld},
+                           {"imu_messages_corrupted", r.feeder.imu_messages_corrupted},
+                           {"late_samples", r.feeder.late_samples},
+                           {"camera_returns", r.feeder.camera_returns}};
+  }
   return s;
 }
 
@@ -134,6 +148,7 @@ int run_command(const RunArgs& a) {
   if (a.source == "default") {
     o.recording = default_sequence(cfg, a, quiet);
     mode = "default";
+    o.through_drivers = !a.lockstep;  // the main job: through the real drivers
   } else if (a.source.rfind("replay:", 0) == 0) {
     o.recording = a.source.substr(7);
     if (o.recording.empty()) throw std::runtime_error("--source replay: needs a file");
@@ -144,8 +159,19 @@ int run_command(const RunArgs& a) {
     throw std::runtime_error("--source must be default, live or replay:FILE.mcap, not '" +
                              a.source + "'");
   }
+  if (a.through_drivers) {
+    if (o.recording.empty()) throw std::runtime_error("--through-drivers needs a recording");
+    if (a.lockstep)
+      throw std::runtime_error("--through-drivers plays in real time, not --lockstep");
+    o.through_drivers = true;
+  }
+  if (o.through_drivers) mode += "+drivers";
   if (a.lockstep) mode += "+lockstep";
   io::refuse_output_dir_over_inputs(a.out, {o.recording, a.config_file});
+  if (o.through_drivers && o.max_frames == 0 && !quiet &&
+      !pipeline::DriverReplay::clip_cached(o.recording))
+    std::fprintf(stderr, "vigs run: writing the recording's OpenNI2 clip once -> %s\n",
+                 pipeline::DriverReplay::cached_clip_path(o.recording).c_str());
 
   g_run_signal.store(0);
   struct sigaction sa {};
@@ -220,6 +246,10 @@ void add_run_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_flag("--lockstep", a.lockstep,
                 "each stage waits for the next: nothing drops, two runs give the same "
                 "trajectory (needs a recording)");
+  cmd->add_flag("--through-drivers", a.through_drivers,
+                "replay: play the recording through the real drivers in real time (an .oni "
+                "clip through OpenNI2, the IMU as Xsens bytes on a pseudo-terminal), as the "
+                "default source always is");
   cmd->add_flag("--no-map", a.no_map, "no mapper task");
   cmd->add_option("--frames", a.frames, "recording: only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);

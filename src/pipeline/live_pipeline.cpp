@@ -63,13 +63,17 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   rt::SpscRing<PoseSample> poses(kPoseRing);
   rt::SpscRing<LiveFrameResult> results(kResultRing);
   std::optional<KeyframeHandoff> handoff;
-  const float depth_scale_m = static_cast<float>(cfg.camera.depth_scale_m);
+  // The drivers' pool holds OpenNI2's millimetres (an .oni clip's too).
+  const float depth_scale_m =
+      o.through_drivers ? 0.001f : static_cast<float>(cfg.camera.depth_scale_m);
 
-  // 3. Sources: a recording played into the rings, or the robot's drivers.
+  // 3. Sources: a recording played into the rings; the robot's drivers; or the recording
+  // through those same drivers (DriverReplay: an .oni clip and a pty stand in for the sensors).
   std::unique_ptr<RecordingSource> recording;
+  std::unique_ptr<DriverReplay> replay;
   std::unique_ptr<drivers::Openni2Driver> camera_driver;
   std::unique_ptr<drivers::SerialImuDriver> imu_driver;
-  if (!o.recording.empty()) {
+  if (!o.recording.empty() && !o.through_drivers) {
     recording = std::make_unique<RecordingSource>(
         RecordingSourceSettings{.path = o.recording,
                                 .lockstep = o.lockstep,
@@ -79,13 +83,35 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
                                 .thread = table_spec("rgbd_driver", rtc)},
         pool, frames, imu);
   } else {
-    if (o.lockstep) throw std::runtime_error("--lockstep needs a recording (--source replay:F)");
-    if (cfg.camera.driver != "openni2" || cfg.imu.driver != "serial")
+    if (o.lockstep)
+      throw std::runtime_error("--lockstep needs a recording played without the drivers");
+    drivers::Openni2DriverSettings cam = drivers::openni2_settings(cfg.camera, rtc);
+    drivers::SerialImuDriverSettings ims = drivers::serial_imu_settings(cfg.imu, rtc);
+    if (o.through_drivers) {
+      replay = std::make_unique<DriverReplay>(
+          DriverReplaySettings{.recording = o.recording,
+                               .max_frames = o.max_frames,
+                               .faults = o.driver_faults,
+                               .feeder_thread = table_spec("sensor_replay", rtc)});
+      cam.uri = replay->clip_path();
+      cam.width_px = static_cast<std::uint32_t>(camera.width_px);
+      cam.height_px = static_cast<std::uint32_t>(camera.height_px);
+      cam.playback_speed = 1.0;  // OpenNI2 paces the clip in real time
+      // Opened on the driver's own thread, so OpenNI2's player thread inherits its real-time
+      // priority and CPU: the "sensor" is not starved by the SCHED_FIFO tracker pair (opened
+      // from this SCHED_OTHER thread it fell ~19 ms behind per second of stream).
+      cam.wait_for_device = true;
+      // The camera fault: a stalled clip is a lost camera, reopened when it is back.
+      cam.reopen_files = o.driver_faults.camera_gone();
+      if (cam.reopen_files) cam.frame_timeout_ms = 400;
+      ims.port = replay->imu_port();
+      ims.protocol = "xsens_mt";
+      ims.stamper.nominal_rate_hz = replay->imu_rate_hz();
+    } else if (cfg.camera.driver != "openni2" || cfg.imu.driver != "serial") {
       throw std::runtime_error("live sensors need camera.driver openni2 and imu.driver serial");
-    camera_driver = std::make_unique<drivers::Openni2Driver>(
-        drivers::openni2_settings(cfg.camera, rtc), pool, frames);
-    imu_driver =
-        std::make_unique<drivers::SerialImuDriver>(drivers::serial_imu_settings(cfg.imu, rtc), imu);
+    }
+    camera_driver = std::make_unique<drivers::Openni2Driver>(cam, pool, frames);
+    imu_driver = std::make_unique<drivers::SerialImuDriver>(ims, imu);
   }
   if (o.mapping) handoff.emplace(kKeyframeSlots, camera.width_px * camera.height_px);
 
@@ -133,6 +159,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   if (recording) recording->start();
   if (imu_driver) imu_driver->start();
   if (camera_driver) camera_driver->start();
+  if (replay) replay->start(*camera_driver);  // the IMU follows the camera's clock anchor
 
   // 6. Run: collect results, status at 1 Hz, progress at 2 Hz, until the end or a stop.
   const std::int64_t t_start = rt::monotonic_ns();
@@ -140,7 +167,23 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   std::vector<float> track_ms;
   bool ended = false;
   LiveStatusSources status_sources{
-      &tracker_task, mapper_task.get(), &tracker, mapper.get(), &frames, &imu, &poses};
+      &tracker_task, mapper_task.get(),   &tracker,        mapper.get(), &frames, &imu,
+      &poses,        camera_driver.get(), imu_driver.get()};
+  const auto source_counters = [&] {
+    if (recording) return recording->counters();
+    RecordingSourceCounters c;
+    if (camera_driver) {
+      const drivers::RgbdDriverCounters d = camera_driver->counters();
+      c.frames = d.delivered;
+      c.frame_drops = d.dropped_ring_full + d.dropped_pool_empty;
+    }
+    if (imu_driver) {
+      const drivers::SerialImuFaults f = imu_driver->faults();
+      c.imu_samples = f.samples_out;
+      c.imu_drops = f.ring_drops;
+    }
+    return c;
+  };
   const auto drain = [&] {
     LiveFrameResult r;
     while (results.try_pop(r)) {
@@ -149,6 +192,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
         continue;
       }
       out.replay.frames.push_back(r.frame);
+      out.pose_flags.push_back(r.flags);
       track_ms.push_back(static_cast<float>(rt::ns_to_ms(r.track_ns)));
     }
   };
@@ -157,7 +201,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       out.stopped_by_signal = true;
       break;
     }
-    if (tracker.failed()) break;
+    if (tracker.failed() || (replay && replay->failed())) break;
     drain();
     const std::int64_t now = rt::monotonic_ns();
     if (now >= next_status) {
@@ -172,9 +216,8 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
         p.stream_s = rt::ns_to_s(out.replay.frames.back().t_ns - out.replay.frames.front().t_ns);
       p.track_p50_ns = tracker_task.cycle_time().p50();
       p.track_p99_ns = tracker_task.cycle_time().p99();
-      p.drops =
-          total_drops(status_sources) +
-          (recording ? recording->counters().frame_drops + recording->counters().imu_drops : 0);
+      const RecordingSourceCounters sc = source_counters();
+      p.drops = total_drops(status_sources) + sc.frame_drops + sc.imu_drops;
       if (mapper) p.gaussians = mapper->gaussians();
       progress(p);
       next_progress = now + rt::ms_to_ns(500);
@@ -182,7 +225,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     rt::sleep_until_ns(now + rt::ms_to_ns(5));
   }
 
-  // 7. Drain and join: sources first, then the tracker (its last results), mapper, publisher.
+  // 7. Drain and join: sources first (the feeder before the IMU driver that reads its pty),
+  // then the tracker (its last results), mapper, publisher.
+  if (replay) replay->stop();
   if (camera_driver) camera_driver->stop();
   if (imu_driver) imu_driver->stop();
   if (recording) recording->stop();
@@ -200,6 +245,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   if (publisher.enabled()) (void)publisher.wait_for_acknowledgments(std::chrono::seconds(2));
   if (tracker.failed()) throw std::runtime_error(tracker.failure_message());
   if (recording && !recording->error().empty()) throw std::runtime_error(recording->error());
+  if (replay && !replay->error().empty()) throw std::runtime_error(replay->error());
   {
     rt::FrameHandle h;
     while (frames.try_pop(h)) pool.release(h);
@@ -218,8 +264,15 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   for (float ms : track_ms) r.track_s += ms * 1e-3;
   out.tracker = tracker.counters();
   r.imu_samples_fed = out.tracker.imu_samples;
-  if (recording) {
-    out.source = recording->counters();
+  out.source = source_counters();
+  if (recording) r.imu_samples = out.source.imu_samples;
+  if (camera_driver) out.camera_driver = camera_driver->counters();
+  if (imu_driver) out.imu_driver = imu_driver->faults();
+  if (replay) {
+    // Back to the recording's clock (driver_replay.hpp): the RESULTS_DIR is evaluated in it.
+    out.feeder = replay->counters();
+    out.host_minus_recording_ns = replay->host_minus_recording_ns().value_or(0);
+    for (TrackedFrame& f : r.frames) f.t_ns -= out.host_minus_recording_ns;
     r.imu_samples = out.source.imu_samples;
   }
   if (mapper) {
@@ -244,8 +297,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     out.track_p50_ns = at(0.5);
     out.track_p99_ns = at(0.99);
   }
-  out.drops =
-      total_drops(status_sources) + (recording ? out.source.frame_drops + out.source.imu_drops : 0);
+  out.drops = total_drops(status_sources) + out.source.frame_drops + out.source.imu_drops;
   if (r.frames.size() >= 2) {
     out.stream_s = rt::ns_to_s(r.frames.back().t_ns - r.frames.front().t_ns);
     out.real_time_factor = r.wall_s > 0 ? out.stream_s / r.wall_s : 0;

@@ -4,11 +4,15 @@
 //
 // Threads (rt/thread_table.hpp, with rt.realtime_priorities / rt.pin_cpus applied):
 //   rgbd_driver, imu_driver  the sources: the robot's OpenNI2 camera and serial IMU, or an MCAP
-//                            recording played into the same rings (RecordingSource)
+//                            recording played into the same rings (RecordingSource), or
+//                            (through_drivers) that recording as an .oni clip and Xsens bytes
+//                            on a pty read by the same two real drivers (DriverReplay, with
+//                            its feeder thread); results then in the recording's clock
 //   tracker (+ tracker_w1)   LiveTracker at camera.rate_hz (lockstep: every 1 ms, all frames)
 //   mapper (+ mapper_w1)     LiveMapper at mapping.rate_hz (when mapping)
 //   dds_pub                  dds::PosePublisher draining the pose ring; status at 1 Hz
 //   the calling thread       collects results, fills the status mailbox, progress, stop
+//   sensor_replay            through_drivers: DriverReplay's feeder (the IMU bytes on the pty)
 // gpio_trigger and recorder belong to `vigs record` (and are not started here).
 // Rings: frames (FramePool handles; capacity the largest power of two <= rt.frame_pool_slots
 // - 4, so a slot is always left for the driver, the tracker and the mapper's keyframes), IMU
@@ -23,8 +27,12 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/config/robot_config.hpp"
+#include "drivers/common/rgbd_driver_counters.hpp"
+#include "drivers/serial_imu/serial_imu_faults.hpp"
+#include "pipeline/driver_replay.hpp"
 #include "pipeline/live_tracker.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/recording_source.hpp"
@@ -32,8 +40,10 @@
 namespace vigs::pipeline {
 
 struct LiveOptions {
-  std::string recording;    ///< MCAP played into the rings; empty: the robot's live sensors
-  std::string config_path;  ///< for dds.qos_profiles; empty: the built-in configuration
+  std::string recording;         ///< MCAP played into the rings; empty: the robot's live sensors
+  bool through_drivers = false;  ///< recording: through the real drivers (DriverReplay)
+  DriverReplayFaults driver_faults;  ///< through_drivers: faults the feeder injects (tests)
+  std::string config_path;           ///< for dds.qos_profiles; empty: the built-in configuration
   bool lockstep = false;
   bool mapping = true;
   std::int64_t max_frames = 0;  ///< recording: 0 = all
@@ -57,7 +67,14 @@ struct LiveProgress {
 struct LiveResult {
   ReplayResult replay;  ///< frames, counters, camera, map (for the RESULTS_DIR writer)
   LiveTrackerCounters tracker;
-  RecordingSourceCounters source;
+  std::vector<std::uint32_t> pose_flags;  ///< PoseFlags of each published pose (replay.frames)
+  RecordingSourceCounters source;         ///< through_drivers: from the drivers' counters
+  std::optional<drivers::RgbdDriverCounters> camera_driver;  ///< live, through_drivers
+  std::optional<drivers::SerialImuFaults> imu_driver;        ///< live, through_drivers
+  DriverReplayCounters feeder;                               ///< through_drivers
+  /// through_drivers: host CLOCK_MONOTONIC minus recording time. The published poses carry
+  /// host stamps; `replay.frames` were mapped back to the recording's clock with it.
+  std::int64_t host_minus_recording_ns = 0;
   std::uint64_t poses_published = 0;
   std::uint64_t status_published = 0;
   std::uint64_t tracker_cycles = 0, tracker_overruns = 0, tracker_missed = 0;

@@ -56,6 +56,20 @@ dds::StatusSnapshot make_status_snapshot(const LiveStatusSources& s, std::int64_
   add_fault(st, "tracker.imu_unavailable", c.imu_unavailable);
   add_fault(st, "tracker.waiting_imu", c.waiting_imu);
   add_fault(st, "tracker.keyframe_drops", c.keyframe_drops);
+  if (s.imu_driver != nullptr) {
+    const drivers::SerialImuFaults f = s.imu_driver->faults();
+    add_fault(st, "imu.bad_checksum", f.bad_checksum);
+    add_fault(st, "imu.resync_bytes_skipped", f.resync_bytes_skipped);
+    add_fault(st, "imu.sample_counter_gap", f.sample_counter_gap);
+    add_fault(st, "imu.samples_missed", f.samples_missed);
+    add_fault(st, "imu.ring_drops", f.ring_drops);
+  }
+  if (s.camera != nullptr) {
+    const drivers::RgbdDriverCounters d = s.camera->counters();
+    add_fault(st, "camera.losses", d.losses);
+    add_fault(st, "camera.reopens", d.reopens);
+    add_fault(st, "camera.ring_drops", d.dropped_ring_full + d.dropped_pool_empty);
+  }
   return st;
 }
 

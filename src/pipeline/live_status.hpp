@@ -6,6 +6,8 @@
 #include "core/types/imu_sample.hpp"
 #include "core/types/pose_sample.hpp"
 #include "dds/status_snapshot.hpp"
+#include "drivers/openni2/openni2_driver.hpp"
+#include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "pipeline/live_mapper.hpp"
 #include "pipeline/live_tracker.hpp"
 #include "rt/frame_pool.hpp"
@@ -22,6 +24,8 @@ struct LiveStatusSources {
   const rt::SpscRing<rt::FrameHandle>* frames = nullptr;
   const rt::SpscRing<ImuSample>* imu = nullptr;
   const rt::SpscRing<PoseSample>* poses = nullptr;
+  const drivers::Openni2Driver* camera = nullptr;  ///< the drivers, when they run
+  const drivers::SerialImuDriver* imu_driver = nullptr;
 };
 
 /// Drops counted by the tracker (skipped frames, full pose / result rings, keyframes).

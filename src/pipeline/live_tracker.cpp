@@ -11,6 +11,8 @@ namespace {
 
 constexpr std::size_t kEarlyImuSamples = 4096;  // IMU samples kept before the first frame
 constexpr std::size_t kInitSamples = 20;        // without samples before it: the next 20
+// A frame whose newest IMU sample is older than this has no IMU of its own (the stream stopped).
+constexpr std::int64_t kImuStaleNs = 100'000'000;
 
 PoseSample pose_sample(const TrackedFrame& f, std::uint64_t index, std::uint32_t flags,
                        const Odometry& odometry) {
@@ -102,11 +104,13 @@ void LiveTracker::feed_imu(std::int64_t t_ns) noexcept {
   for (; early_fed_ < early_imu_.size() && early_imu_[early_fed_].t_ns <= t_ns; ++early_fed_) {
     imu_samples_.add();
     if (!odometry_->add_imu(early_imu_[early_fed_])) imu_refused_.add();
+    last_imu_t_ns_ = early_imu_[early_fed_].t_ns;
   }
   while (const ImuSample* s = r_.imu.front()) {
     if (s->t_ns > t_ns) break;
     imu_samples_.add();
     if (!odometry_->add_imu(*s)) imu_refused_.add();
+    last_imu_t_ns_ = s->t_ns;
     r_.imu.pop();
   }
 }
@@ -171,15 +175,17 @@ void LiveTracker::process(rt::FrameHandle h) noexcept {
   const std::int64_t t1 = rt::monotonic_ns();
   std::uint32_t flags = pending_flags_;
   pending_flags_ = 0;
-  if (odometry_->guess_mode() == tracking::InitialGuessMode::imu && !f.imu_guess &&
-      frame_index_ > 0) {
+  // No prediction, or one the IMU stream stopped short of (the frontend then extrapolates the
+  // last reading): flagged and counted.
+  if (odometry_->guess_mode() == tracking::InitialGuessMode::imu && frame_index_ > 0 &&
+      (!f.imu_guess || last_imu_t_ns_ < t_ns - kImuStaleNs)) {
     flags |= kPoseFlagImuUnavailable;
     imu_unavailable_.add();
   }
   const PoseSample pose = pose_sample(f, frame_index_, flags, *odometry_);
   if (!wait([&] { return r_.poses.try_push(pose); }, "the publisher (pose ring)"))
     pose_drops_.add();
-  LiveFrameResult result{f, t1 - t0, rt::monotonic_ns(), false};
+  LiveFrameResult result{f, t1 - t0, rt::monotonic_ns(), pose.flags, false};
   if (!wait([&] { return r_.results.try_push(result); }, "the main thread (result ring)"))
     result_drops_.add();
   if (f.keyframe && r_.keyframes != nullptr) {

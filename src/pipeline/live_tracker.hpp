@@ -15,7 +15,8 @@
 // Faults, counted and flagged in the pose: a frame stamped at or before the previous one is
 // released (out_of_order, kPoseFlagOutOfOrder on the next pose); an IMU sample older than the
 // last is refused by the Odometry (imu_refused); a frame without an IMU prediction is flagged
-// kPoseFlagImuUnavailable.
+// kPoseFlagImuUnavailable, as is one whose newest IMU sample is over 100 ms older than it (the
+// stream stopped: the IMU frontend extrapolates its last reading until samples return).
 // Lockstep waits are bounded (wait_timeout_ns): a stage that does not move in that time fails
 // the tracker with a message naming the ring instead of hanging.
 // After warm-up the tick does not allocate, lock or log: the tracking buffers are sized for a
@@ -44,6 +45,7 @@ struct LiveFrameResult {
   TrackedFrame frame;
   std::int64_t track_ns = 0;      ///< inside Odometry::track
   std::int64_t done_mono_ns = 0;  ///< CLOCK_MONOTONIC when the pose was pushed
+  std::uint32_t flags = 0;        ///< the published pose's PoseFlags
   bool end_of_stream = false;     ///< the last element: nothing follows
 };
 
@@ -113,6 +115,7 @@ class LiveTracker {
   std::vector<ImuSample> early_imu_;  // samples before the Odometry exists (reserved)
   std::size_t early_fed_ = 0;
   std::int64_t last_t_ns_ = INT64_MIN;
+  std::int64_t last_imu_t_ns_ = INT64_MIN;  // newest IMU sample moved into the Odometry
   std::uint32_t pending_flags_ = 0;
   bool end_pending_ = false;  // the end marker was taken behind the frame being tracked
   std::uint64_t frame_index_ = 0;

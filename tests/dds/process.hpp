@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <string>
@@ -95,6 +96,31 @@ class ChildProcess {
   bool exited_ = false;
   int status_ = 0;
   std::string out_;
+};
+
+/// Reads a child's stdout on a thread while a run lasts: a pipe holds 64 KiB (about 50 pose
+/// lines), and a full pipe would stall a subscriber's listener and lose the rest. Stop it (or
+/// destroy it) before the child's wait().
+class OutputDrainer {
+ public:
+  explicit OutputDrainer(ChildProcess& child)
+      : thread_([this, &child] {
+          while (running_.load()) {
+            (void)child.output();
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+          }
+        }) {}
+  ~OutputDrainer() { stop(); }
+  OutputDrainer(const OutputDrainer&) = delete;
+  OutputDrainer& operator=(const OutputDrainer&) = delete;
+  void stop() {
+    running_.store(false);
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::atomic<bool> running_{true};
+  std::thread thread_;
 };
 
 }  // namespace vigs::dds::test

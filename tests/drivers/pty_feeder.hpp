@@ -9,26 +9,13 @@
 #include <thread>
 #include <vector>
 
+#include "drivers/serial_imu/pseudo_terminal.hpp"
 #include "xsens_test_stream.hpp"
 
 namespace vigs::drivers::test {
 
-class Pty {
- public:
-  Pty();  // posix_openpt, grantpt, unlockpt; the slave opened once and set raw
-  ~Pty();
-  Pty(const Pty&) = delete;
-  Pty& operator=(const Pty&) = delete;
-
-  [[nodiscard]] const std::string& slave_path() const { return slave_path_; }
-  [[nodiscard]] int master_fd() const { return master_; }
-  void close_master();
-
- private:
-  int master_ = -1;
-  int slave_ = -1;  // kept open so the line settings persist between opens
-  std::string slave_path_;
-};
+/// The pty pair now lives in drivers/serial_imu/pseudo_terminal.hpp (vigs run uses it too).
+using Pty = drivers::PseudoTerminal;
 
 /// Writes segments to the master: segment k at start + (stf_k - stf_0) * 100 us. With
 /// `close_when`, closes the master after the last write once close_when() is true (polled for up

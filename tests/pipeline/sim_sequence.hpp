@@ -36,6 +36,18 @@ inline config::RobotConfig small_office(double seconds) {
   return cfg;
 }
 
+/// small_office for the live pipeline's tests: unprivileged (no mlockall, SCHED_FIFO or
+/// pinning), DDS off unless a test turns it on, one mapper thread.
+inline config::RobotConfig live_test_config(double seconds) {
+  config::RobotConfig cfg = small_office(seconds);
+  cfg.rt.lock_memory = false;
+  cfg.rt.realtime_priorities = false;
+  cfg.rt.pin_cpus = false;
+  cfg.dds.enabled = false;
+  cfg.mapping.threads = 1;
+  return cfg;
+}
+
 /// A folder made with mkdtemp, removed with its contents on destruction.
 class TempDir {
  public:

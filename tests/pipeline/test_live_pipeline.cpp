@@ -23,13 +23,7 @@ namespace vigs::pipeline {
 namespace {
 
 config::RobotConfig live_config() {
-  config::RobotConfig cfg = testing::small_office(4.0);
-  cfg.rt.lock_memory = false;  // tests: no mlockall, no SCHED_FIFO, no pinning
-  cfg.rt.realtime_priorities = false;
-  cfg.rt.pin_cpus = false;
-  cfg.dds.enabled = false;
-  cfg.mapping.threads = 1;
-  return cfg;
+  return testing::live_test_config(4.0);
 }
 
 class LivePipeline : public ::testing::Test {
@@ -124,18 +118,9 @@ TEST_F(LivePipeline, SubscriberInAnotherProcessGetsEveryPoseInOrder) {
   o.wait_for_subscribers = 1;
   dds::test::ChildProcess echo(
       {VIGS_BIN, "echo", "rt/vigs/pose", "--domain", std::to_string(kDomain), "--timeout", "0"});
-  // Read the echo's stdout while the run lasts: a pipe holds 64 KiB (about 50 pose lines), and
-  // a full pipe would stall the subscriber's listener and lose the rest of the run.
-  std::atomic<bool> running{true};
-  std::thread drainer([&] {
-    while (running.load()) {
-      (void)echo.output();
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  });
+  dds::test::OutputDrainer drainer(echo);  // while the run lasts
   const LiveResult r = run_live(cfg, o);
-  running.store(false);
-  drainer.join();
+  drainer.stop();
   const std::size_t n = r.replay.frames.size();
   ASSERT_GT(n, 10u);  // under load the tracker skips frames; every pose it makes must arrive
   std::this_thread::sleep_for(std::chrono::milliseconds(500));

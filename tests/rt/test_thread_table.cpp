@@ -70,7 +70,7 @@ TEST(ThreadTable, HoldsEveryVigsThread) {
   }
   EXPECT_EQ(names, (std::set<std::string_view>{"rgbd_driver", "imu_driver", "gpio_trigger",
                                                "tracker", "tracker_w1", "mapper", "mapper_w1",
-                                               "dds_pub", "recorder"}));
+                                               "dds_pub", "recorder", "sensor_replay"}));
   EXPECT_EQ(thread_spec("tracker_w1").sched_fifo_priority,
             thread_spec("tracker").sched_fifo_priority);
   EXPECT_NE(thread_spec("tracker_w1").cpu, thread_spec("tracker").cpu);

@@ -118,7 +118,9 @@ McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::stri
       fail(mcap_path, "image sizes differ (" + std::to_string(img.width) + "x" +
                           std::to_string(img.height) + " on " + m.channel->topic + ")");
     }
-    Frame& f = frames[img.header.stamp.to_ns()];
+    const std::int64_t t_ns = img.header.stamp.to_ns();
+    if (t_ns < options.from_stamp_ns || t_ns > options.to_stamp_ns) continue;
+    Frame& f = frames[t_ns];
     if (m.channel->topic == options.rgb_topic && !f.has_rgb) {
       f.rgb = to_rgb(img, mcap_path);
       f.has_rgb = true;
@@ -155,11 +157,17 @@ McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::stri
   OniClipWriter writer(oni_path, {result.width, result.height, result.fps});
   for (const std::int64_t t : stamps) {
     auto it = frames.find(t);
-    writer.add_frame(it->second.depth_mm, it->second.rgb);
+    if (options.recorded_stamps) {
+      writer.add_frame_at(recorded_timestamp_us(t, stamps.front()), it->second.depth_mm,
+                          it->second.rgb);
+    } else {
+      writer.add_frame(it->second.depth_mm, it->second.rgb);
+    }
     frames.erase(it);  // the writer holds its own copy: keep memory near one clip
   }
   writer.close();
   result.frames = stamps.size();
+  result.first_stamp_ns = static_cast<std::uint64_t>(stamps.front());
   result.last_stamp_ns = static_cast<std::uint64_t>(stamps.back());
   result.damage = mcap::damage_of(reader);
   return result;

@@ -12,6 +12,11 @@ struct McapToOniOptions {
   std::string depth_topic = "/tesse/depth_cam/mono/image_raw";  ///< 16UC1 (mm) or 32FC1 (m)
   std::size_t max_frames = 100;  ///< clips are held in memory; 720x480 is 1.7 MB a frame
   std::uint32_t fps = 0;         ///< 0 = from the median spacing of the frame stamps
+  /// Clip timestamps from the header stamps (1 ms + stamp - first stamp, in whole us) instead of
+  /// uniform at fps, so real-time playback keeps the recording's own frame times.
+  bool recorded_stamps = false;
+  std::int64_t from_stamp_ns = INT64_MIN;  ///< pairs stamped before this are left out
+  std::int64_t to_stamp_ns = INT64_MAX;    ///< pairs stamped after this are left out
 };
 
 /// What make_oni_from_mcap did.
@@ -22,8 +27,16 @@ struct McapToOniResult {
   std::uint32_t width = 0, height = 0;
   /// Damage found in the part read: the clip holds the pairs of the intact part.
   mcap::DamageReport damage;
-  std::uint64_t last_stamp_ns = 0;  ///< header stamp of the last pair written
+  std::uint64_t first_stamp_ns = 0;  ///< header stamp of the first pair written
+  std::uint64_t last_stamp_ns = 0;   ///< header stamp of the last pair written
 };
+
+/// With McapToOniOptions::recorded_stamps: the clip timestamp (us) of a frame stamped `t_ns` in a
+/// recording whose first pair is stamped `first_t_ns` (1 ms + the difference, whole us).
+[[nodiscard]] constexpr std::uint64_t recorded_timestamp_us(std::int64_t t_ns,
+                                                            std::int64_t first_t_ns) {
+  return 1000 + static_cast<std::uint64_t>(t_ns - first_t_ns) / 1000;
+}
 
 /// Turns the colour and depth images of an MCAP recording (cdr or ros1) into an `.oni` clip that
 /// OpenNI2 plays back, so the OpenNI2 driver can run on simulated or uHumans data. Images are

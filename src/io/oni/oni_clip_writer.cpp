@@ -97,9 +97,9 @@ struct OniClipWriter::Impl {
   std::vector<std::vector<std::uint8_t>> rgb;
   bool closed = false;
 
-  std::uint64_t timestamp_us(std::size_t frame) const {
-    return 1000 + frame * 1'000'000ull / settings.fps;  // never 0: OniFile skips ts 0 frame 0
-  }
+  std::vector<std::uint64_t> t_us;  // per frame, strictly increasing, > 0
+
+  std::uint64_t timestamp_us(std::size_t frame) const { return t_us[frame]; }
 
   void add_node(std::vector<std::uint8_t>& out, std::uint32_t node, std::string_view name,
                 std::int32_t type, std::uint64_t oni_format, std::uint32_t bytes_per_pixel) const {
@@ -136,7 +136,8 @@ struct OniClipWriter::Impl {
     RecordBuilder(out, kNodeStateReady, node).finish();
   }
 
-  std::vector<std::uint8_t> build() const {
+  // Everything before the first frame record.
+  std::vector<std::uint8_t> header() const {
     const auto frames = static_cast<std::uint32_t>(depth.size());
     std::vector<std::uint8_t> out;
     ByteWriter w(out);
@@ -156,21 +157,41 @@ struct OniClipWriter::Impl {
       r.fields().put(timestamp_us(frames - 1));
       r.finish();
     }
-    for (std::uint32_t f = 0; f < frames; ++f) {
+    return out;
+  }
+
+  // Frame f's record for `node` (0 depth, 1 colour), into `out` (cleared first).
+  void frame_record(std::uint32_t f, std::uint32_t node, std::vector<std::uint8_t>& out) const {
+    out.clear();
+    RecordBuilder r(out, kNewData, node);
+    r.fields().put(timestamp_us(f));
+    r.fields().put(f + 1);  // frame numbers start at 1
+    if (node == 0) {
+      r.finish(std::span(reinterpret_cast<const std::uint8_t*>(depth[f].data()),
+                         depth[f].size() * sizeof(std::uint16_t)));
+    } else {
+      r.finish(rgb[f]);
+    }
+  }
+
+  // The whole file, one record at a time (never a second copy of the clip in memory).
+  void write(std::FILE* file) const {
+    const auto put = [file](const std::vector<std::uint8_t>& bytes) {
+      if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size()) {
+        throw IoError("short write");
+      }
+    };
+    put(header());
+    std::vector<std::uint8_t> record;
+    for (std::uint32_t f = 0; f < static_cast<std::uint32_t>(depth.size()); ++f) {
       for (std::uint32_t node = 0; node < 2; ++node) {
-        RecordBuilder r(out, kNewData, node);
-        r.fields().put(timestamp_us(f));
-        r.fields().put(f + 1);  // frame numbers start at 1
-        if (node == 0) {
-          r.finish(std::span(reinterpret_cast<const std::uint8_t*>(depth[f].data()),
-                             depth[f].size() * sizeof(std::uint16_t)));
-        } else {
-          r.finish(rgb[f]);
-        }
+        frame_record(f, node, record);
+        put(record);
       }
     }
-    RecordBuilder(out, kEnd, 0).finish();
-    return out;
+    record.clear();
+    RecordBuilder(record, kEnd, 0).finish();
+    put(record);
   }
 };
 
@@ -189,7 +210,17 @@ OniClipWriter::~OniClipWriter() = default;
 
 void OniClipWriter::add_frame(std::span<const std::uint16_t> depth_mm,
                               std::span<const std::uint8_t> rgb) {
+  add_frame_at(uniform_timestamp_us(impl_->depth.size(), impl_->settings.fps), depth_mm, rgb);
+}
+
+void OniClipWriter::add_frame_at(std::uint64_t t_us, std::span<const std::uint16_t> depth_mm,
+                                 std::span<const std::uint8_t> rgb) {
   Impl& m = *impl_;
+  if (t_us == 0 || (!m.t_us.empty() && t_us <= m.t_us.back())) {
+    throw IoError("ONI clip " + m.path + ": frame " + std::to_string(m.depth.size()) +
+                  " timestamp " + std::to_string(t_us) +
+                  " us is not after the previous one (or is 0)");
+  }
   const std::size_t n = std::size_t{m.settings.width} * m.settings.height;
   if (m.closed) throw IoError("ONI clip " + m.path + ": add_frame after close");
   if (depth_mm.size() != n || rgb.size() != 3 * n) {
@@ -200,19 +231,15 @@ void OniClipWriter::add_frame(std::span<const std::uint16_t> depth_mm,
   }
   m.depth.emplace_back(depth_mm.begin(), depth_mm.end());
   m.rgb.emplace_back(rgb.begin(), rgb.end());
+  m.t_us.push_back(t_us);
 }
 
 void OniClipWriter::close() {
   Impl& m = *impl_;
   if (m.closed) return;
   if (m.depth.empty()) throw IoError("ONI clip " + m.path + ": no frames added");
-  const std::vector<std::uint8_t> bytes = m.build();
   try {
-    write_file_atomically(m.path, [&](std::FILE* f) {
-      if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size()) {
-        throw IoError("short write");
-      }
-    });
+    write_file_atomically(m.path, [&](std::FILE* f) { m.write(f); });
   } catch (const std::exception& e) {
     throw IoError("ONI clip " + m.path + ": " + e.what());
   }

@@ -1,4 +1,5 @@
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -17,8 +18,10 @@ struct OniClipSettings {
 
 /// Writes a short uncompressed RGB-D `.oni` clip that real OpenNI2 plays back
 /// (`openni::Device::open(path)`, PlaybackControl, depth PIXEL_FORMAT_DEPTH_1_MM and colour
-/// PIXEL_FORMAT_RGB888 streams). Frames are kept in memory and the file is written atomically
-/// (temp file, then rename) by close(): clips are test fixtures of a few frames, not recordings.
+/// PIXEL_FORMAT_RGB888 streams). Frames are kept in memory (one copy: close() writes them
+/// record by record; 720x480 is 1.7 MB a frame) and the file is written atomically (temp file,
+/// then rename) by close(): clips are test fixtures and the short sequences `vigs run` replays
+/// through the drivers, not long recordings.
 class OniClipWriter {
  public:
   /// Throws IoError if the settings are invalid (zero size, fps 0).
@@ -30,6 +33,19 @@ class OniClipWriter {
   /// Appends one frame: `depth_mm` has width*height values (0 = no depth), `rgb` has
   /// width*height*3 bytes (R G B per pixel, rows top to bottom). Throws IoError on bad sizes.
   void add_frame(std::span<const std::uint16_t> depth_mm, std::span<const std::uint8_t> rgb);
+
+  /// Appends one frame with device timestamp `t_us` (microseconds, > 0, after the previous
+  /// frame's): OpenNI2 plays it back at that time in real time (setSpeed(1)) and reports it as
+  /// the frame's timestamp. add_frame() uses uniform_timestamp_us().
+  void add_frame_at(std::uint64_t t_us, std::span<const std::uint16_t> depth_mm,
+                    std::span<const std::uint8_t> rgb);
+
+  /// Frame `index` of a clip at `fps` without recorded times: 1 ms + index / fps (never 0:
+  /// OniFile skips a frame 0 at timestamp 0).
+  [[nodiscard]] static constexpr std::uint64_t uniform_timestamp_us(std::size_t index,
+                                                                    std::uint32_t fps) {
+    return 1000 + index * 1'000'000ull / fps;
+  }
 
   /// Writes the file. Throws IoError (naming the path) on failure. Idempotent.
   void close();
