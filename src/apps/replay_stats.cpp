@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "io/mcap/damage_object.hpp"
+#include "pipeline/replay_figures.hpp"
 #include "pipeline/results_writer.hpp"
 
 namespace vigs::apps {
@@ -32,19 +33,10 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   s["fps"] = r.wall_s > 0 ? num(frames / r.wall_s) : io::Json(nullptr);
   s["track_ms_per_frame"] = n > 0 ? num(1e3 * r.track_s / frames) : io::Json(nullptr);
   s["peak_rss_bytes"] = std::llround(pipeline::peak_rss_bytes());
-  std::vector<float> ms = r.track_ms;
-  const auto percentile = [&ms](double q) -> io::Json {
-    if (ms.empty()) return nullptr;
-    const auto k = static_cast<std::size_t>(q * static_cast<double>(ms.size() - 1) + 0.5);
-    std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(k), ms.end());
-    return io::rounded(static_cast<double>(ms[k]), 10);
-  };
-  s["track_ms_p50"] = percentile(0.5);
-  s["track_ms_p99"] = percentile(0.99);
-  long gicp_iterations = 0;
-  for (const pipeline::TrackedFrame& f : r.frames) gicp_iterations += f.gicp_iterations;
-  s["gicp_iterations_mean"] =
-      n > 1 ? num(static_cast<double>(gicp_iterations) / (frames - 1.0)) : io::Json(nullptr);
+  const auto or_null = [&num](std::optional<double> v) { return v ? num(*v) : io::Json(nullptr); };
+  s["track_ms_p50"] = or_null(pipeline::track_ms_quantile(r, 0.5));
+  s["track_ms_p99"] = or_null(pipeline::track_ms_quantile(r, 0.99));
+  s["gicp_iterations_mean"] = or_null(pipeline::mean_gicp_iterations(r));
   s["tracked"] = c.tracked;
   s["not_converged"] = c.not_converged;
   s["degenerate"] = c.degenerate;

@@ -9,12 +9,14 @@ namespace vigs::tracking {
 
 DepthToPoints::DepthToPoints(const PinholeCamera& camera, const Setting& setting)
     : camera_(camera), setting_(setting) {
-  if (setting_.voxel_size_m > 0.0) {
-    const auto stride = static_cast<std::size_t>(std::max(1, setting_.pixel_stride));
-    const auto w = static_cast<std::size_t>(std::max(0, camera.width_px));
-    const auto h = static_cast<std::size_t>(std::max(0, camera.height_px));
-    voxel_keys_.reserve(((w + stride - 1) / stride) * ((h + stride - 1) / stride));
-  }
+  if (setting_.voxel_size_m > 0.0) voxel_keys_.reserve(max_points());
+}
+
+std::size_t DepthToPoints::max_points() const {
+  const auto stride = static_cast<std::size_t>(std::max(1, setting_.pixel_stride));
+  const auto w = static_cast<std::size_t>(std::max(0, camera_.width_px));
+  const auto h = static_cast<std::size_t>(std::max(0, camera_.height_px));
+  return ((w + stride - 1) / stride) * ((h + stride - 1) / stride);
 }
 
 namespace {

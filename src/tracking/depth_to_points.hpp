@@ -55,6 +55,8 @@ class DepthToPoints {
 
   [[nodiscard]] const Setting& setting() const { return setting_; }
   [[nodiscard]] const PinholeCamera& camera() const { return camera_; }
+  /// The most points a frame can give (every stride-th pixel valid), before the voxel grid.
+  [[nodiscard]] std::size_t max_points() const;
 
  private:
   template <class DepthAt>

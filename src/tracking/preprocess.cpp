@@ -1,7 +1,5 @@
 #include "tracking/preprocess.hpp"
 
-#include <algorithm>
-
 namespace vigs::tracking {
 
 FramePreprocessor::FramePreprocessor(const PinholeCamera& camera, const Setting& setting,
@@ -19,11 +17,7 @@ FramePreprocessor::FramePreprocessor(const PinholeCamera& camera, const Setting&
 }
 
 std::size_t FramePreprocessor::max_points() const {
-  const auto stride = static_cast<std::size_t>(std::max(1, setting_.depth.pixel_stride));
-  const PinholeCamera& c = depth_.camera();
-  const auto w = static_cast<std::size_t>(std::max(0, c.width_px));
-  const auto h = static_cast<std::size_t>(std::max(0, c.height_px));
-  return ((w + stride - 1) / stride) * ((h + stride - 1) / stride);
+  return depth_.max_points();
 }
 
 DepthToPointsStats FramePreprocessor::process(const RgbdView& frame, GaussianCloud& out) {

@@ -11,12 +11,11 @@
 // iteration is enough; the sequence is simulated once per camera rate (not timed).
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <map>
 #include <memory>
-#include <vector>
 
 #include "pipeline/lockstep_replay.hpp"
+#include "pipeline/replay_figures.hpp"
 #include "tests/pipeline/sim_sequence.hpp"
 
 namespace {
@@ -103,17 +102,9 @@ void BM_TrackOffice720(benchmark::State& state) {
     r = pipeline::replay_recording(path, run, {});
     benchmark::DoNotOptimize(r.frames.data());
   }
-  std::vector<float> ms = r.track_ms;
-  std::sort(ms.begin(), ms.end());
-  const auto at = [&ms](double q) {
-    return ms.empty() ? 0.0
-                      : static_cast<double>(ms[static_cast<std::size_t>(q * (ms.size() - 1))]);
-  };
-  double iterations = 0;
-  for (const pipeline::TrackedFrame& f : r.frames) iterations += f.gicp_iterations;
-  state.counters["track_ms_p50"] = at(0.5);
-  state.counters["track_ms_p99"] = at(0.99);
-  state.counters["gicp_iterations"] = iterations / static_cast<double>(r.frames.size());
+  state.counters["track_ms_p50"] = pipeline::track_ms_quantile(r, 0.5).value_or(0.0);
+  state.counters["track_ms_p99"] = pipeline::track_ms_quantile(r, 0.99).value_or(0.0);
+  state.counters["gicp_iterations"] = pipeline::mean_gicp_iterations(r).value_or(0.0);
   state.counters["ate_rmse_m"] = pipeline::testing::camera_ate(motion, r.frames, run).stats.rmse;
   state.counters["frames"] = static_cast<double>(r.frames.size());
 }
