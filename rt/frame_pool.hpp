@@ -53,6 +53,8 @@ struct Frame {
   std::span<std::uint16_t> depth;  // width * height raw 16-bit depth (16UC1); unit set by the
                                    // camera model (OpenNI2: mm); 0 = no measurement
   std::int64_t t_ns = 0;           // CLOCK_MONOTONIC capture time
+  std::int64_t arrival_ns = 0;     // CLOCK_MONOTONIC when the driver handed it to its ring
+                                   // (pose latency; the tracker's phase lock, rt/phase_lock.hpp)
   std::uint64_t sequence = 0;      // driver frame counter
 };
 

@@ -2,6 +2,7 @@
 
 #include <sys/prctl.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -25,6 +26,11 @@ void PeriodicTask::start() {
 
 void PeriodicTask::request_stop() noexcept {
   stop_flag_.store(true, std::memory_order_release);
+}
+
+void PeriodicTask::shift_next_deadline(std::int64_t delta_ns) noexcept {
+  const std::int64_t half = spec_.period_ns / 2;
+  pending_shift_ns_ = delta_ns < -half ? -half : (delta_ns > half ? half : delta_ns);
 }
 
 void PeriodicTask::stop() {
@@ -58,6 +64,14 @@ void PeriodicTask::run(std::stop_token stop) noexcept {
     cycle_time_.record(end - wake);
     cycles_.add();
     deadline += period;
+    if (pending_shift_ns_ != 0) {
+      // Earlier, but not before the body's end: a shift is not an overrun.
+      const std::int64_t shifted = std::max(deadline + pending_shift_ns_, std::min(deadline, end));
+      phase_shift_ns_.add(
+          static_cast<std::uint64_t>(shifted > deadline ? shifted - deadline : deadline - shifted));
+      deadline = shifted;
+      pending_shift_ns_ = 0;
+    }
     if (end > deadline) {
       // Finished after the next deadline: skip to the first deadline still in the future.
       const std::int64_t skipped = (end - deadline) / period + 1;

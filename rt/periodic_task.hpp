@@ -57,6 +57,11 @@ class PeriodicTask {
   void start();
   // Any thread, including the body.
   void request_stop() noexcept;
+  // From inside the body only: moves the next deadline by delta_ns (clamped to +-period/2), and
+  // the grid with it (later deadlines keep the period from the moved one). A shift earlier
+  // never moves the deadline before the body's end, so a shift alone never makes an overrun.
+  // Used to phase-lock a task to its input (rt/phase_lock.hpp); counted in phase_shift_ns().
+  void shift_next_deadline(std::int64_t delta_ns) noexcept;
   // request_stop() and join. Not from inside the body. Safe to call repeatedly or before start().
   void stop();
 
@@ -69,6 +74,8 @@ class PeriodicTask {
   [[nodiscard]] std::uint64_t cycles() const noexcept { return cycles_.get(); }
   [[nodiscard]] std::uint64_t overruns() const noexcept { return overruns_.get(); }
   [[nodiscard]] std::uint64_t missed_deadlines() const noexcept { return missed_deadlines_.get(); }
+  // Sum of |shift| applied by shift_next_deadline (how much the grid moved).
+  [[nodiscard]] std::uint64_t phase_shift_ns() const noexcept { return phase_shift_ns_.get(); }
   [[nodiscard]] const LatencyHistogram& wake_jitter() const noexcept { return wake_jitter_; }
   [[nodiscard]] const LatencyHistogram& cycle_time() const noexcept { return cycle_time_; }
   // Multi-line summary for the exit report (allocates; not for the real-time path).
@@ -83,6 +90,8 @@ class PeriodicTask {
   SingleWriterCounter cycles_;
   SingleWriterCounter overruns_;
   SingleWriterCounter missed_deadlines_;
+  SingleWriterCounter phase_shift_ns_;
+  std::int64_t pending_shift_ns_ = 0;  // the task's thread only
   LatencyHistogram wake_jitter_;
   LatencyHistogram cycle_time_;
   std::optional<RtThread> thread_;  // last: destroyed (joined) first

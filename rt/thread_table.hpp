@@ -81,9 +81,9 @@ inline constexpr std::array<ThreadSpec, 10> kThreadTable{{
     {.name = "mapper", .sched_fifo_priority = 0, .cpu = -1, .period_ns = ms_to_ns(100)},
     // The mapper's worker team member 1: rasterizer tiles, SSIM rows.
     {.name = "mapper_w1", .sched_fifo_priority = 0, .cpu = -1, .period_ns = 0},
-    // Drains the pose ring and publishes on DDS (not real-time safe: SCHED_OTHER). 100 Hz polling
-    // adds at most 10 ms to a 20 Hz pose.
-    {.name = "dds_pub", .sched_fifo_priority = 0, .cpu = 0, .period_ns = ms_to_ns(10)},
+    // Drains the pose ring and publishes on DDS (not real-time safe: SCHED_OTHER). 500 Hz polling
+    // adds at most 2 ms to a 20 Hz pose (an empty poll is one ring read).
+    {.name = "dds_pub", .sched_fifo_priority = 0, .cpu = 0, .period_ns = ms_to_ns(2)},
     // Drains its tap rings into MCAP (zstd, disk I/O): SCHED_OTHER, any CPU.
     {.name = "recorder", .sched_fifo_priority = 0, .cpu = -1, .period_ns = ms_to_ns(20)},
     // `vigs run --through-drivers` only: writes the recording's IMU bytes into the pty on time.

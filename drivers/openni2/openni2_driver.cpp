@@ -493,6 +493,7 @@ void Openni2Driver::emit_pair() noexcept {
     frame.t_ns = t_ns;
     frame.sequence = sequence;
     tap_.offer(pool_, handle);
+    frame.arrival_ns = rt::monotonic_ns();
     if (rt::push_or_drop(out_, handle, dropped_ring_full_,
                          [this](rt::FrameHandle& h) noexcept { pool_.release(h); })) {
       delivered_.add();

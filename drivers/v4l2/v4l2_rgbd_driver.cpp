@@ -319,6 +319,7 @@ void V4l2RgbdDriver::emit_pair() noexcept {
       frame.sequence = frames_read_.get();
       frames_read_.add();
       tap_.offer(pool_, handle);
+      frame.arrival_ns = rt::monotonic_ns();
       if (rt::push_or_drop(out_, handle, dropped_ring_full_,
                            [this](rt::FrameHandle& hd) noexcept { pool_.release(hd); })) {
         delivered_.add();

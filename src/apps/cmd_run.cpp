@@ -105,6 +105,11 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   s["tracker_cycles"] = r.tracker_cycles;
   s["tracker_overruns"] = r.tracker_overruns;
   s["tracker_missed_deadlines"] = r.tracker_missed;
+  s["tracker_phase_shift_ms"] = ms(static_cast<std::int64_t>(r.tracker_phase_shift_ns));
+  s["pose_latency_ms_p50"] = ms(r.pose_latency_ns.p50_ns);
+  s["pose_latency_ms_p99"] = ms(r.pose_latency_ns.p99_ns);
+  s["frame_wait_ms_p50"] = ms(r.frame_wait_ns.p50_ns);
+  s["frame_wait_ms_p99"] = ms(r.frame_wait_ns.p99_ns);
   s["frames_skipped"] = r.tracker.skipped;
   s["frames_out_of_order"] = r.tracker.out_of_order;
   s["frames_waiting_imu"] = r.tracker.waiting_imu;
@@ -202,6 +207,7 @@ int run_command(const RunArgs& a) {
                    {"real_time_factor", io::rounded(r.real_time_factor, 4)},
                    {"tracker_cycle_ms_p99", io::rounded(r.cycle_p99_ns * 1e-6, 4)},
                    {"track_ms_p99", io::rounded(r.track_p99_ns * 1e-6, 4)},
+                   {"pose_latency_ms_p99", io::rounded(r.pose_latency_ns.p99_ns * 1e-6, 4)},
                    {"drops", r.drops}};
   if (!o.recording.empty() && !a.no_report) {
     eval::ReportOptions ro;

@@ -1,7 +1,7 @@
 #pragma once
 // PosePublisher: the DDS publisher role. It owns the participant, the DDS publisher and one
 // writer per topic, and drains the tracker's pose ring on its own non-real-time thread (the
-// thread table's `dds_pub`: SCHED_OTHER, every 10 ms). From each PoseSample it writes
+// thread table's `dds_pub`: SCHED_OTHER, every 2 ms). From each PoseSample it writes
 //   <prefix>/pose      PoseWithCovarianceStamped (frame dds.map_frame_id)
 //   <prefix>/odom      Odometry (child frame dds.camera_frame_id, twist in the camera frame)
 //   rt/tf              TFMessage map -> camera

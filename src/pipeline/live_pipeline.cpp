@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -26,6 +27,20 @@ constexpr std::size_t kResultRing = 1024;
 
 rt::ThreadSpec table_spec(const char* name, const config::RtSettings& rt) {
   return rt::apply_policy(rt::thread_spec(name), rt.realtime_priorities, rt.pin_cpus);
+}
+
+/// p50 and p99 (nearest rank) of ns; zeros when empty.
+LatencyQuantiles quantiles(std::vector<std::int64_t> ns) {
+  LatencyQuantiles q;
+  if (ns.empty()) return q;
+  std::sort(ns.begin(), ns.end());
+  const auto at = [&ns](double f) {
+    return ns[static_cast<std::size_t>(f * static_cast<double>(ns.size() - 1) + 0.5)];
+  };
+  q.p50_ns = at(0.5);
+  q.p99_ns = at(0.99);
+  q.count = ns.size();
+  return q;
 }
 
 std::int64_t period_ns(double rate_hz) {
@@ -121,10 +136,19 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   ts.wait_timeout_ns = o.wait_timeout_ns;
   ts.depth_scale_m = depth_scale_m;
   ts.camera = camera;
-  LiveTracker tracker(cfg, ts, {pool, frames, imu, poses, results, handoff ? &*handoff : nullptr});
   rt::ThreadSpec tracker_spec = table_spec("tracker", rtc);
   tracker_spec.period_ns = o.lockstep ? rt::ms_to_ns(1) : period_ns(cfg.camera.rate_hz);
-  rt::PeriodicTask tracker_task(tracker_spec, [&tracker] { tracker.tick(); });
+  if (!o.lockstep && cfg.rt.tracker_phase_lock) {
+    ts.phase_lock.period_ns = tracker_spec.period_ns;
+    ts.phase_lock.lead_ns = std::llround(cfg.rt.tracker_phase_lead_ms * 1e6);
+  }
+  LiveTracker tracker(cfg, ts, {pool, frames, imu, poses, results, handoff ? &*handoff : nullptr});
+  // The tick slides toward the frames' arrival (LiveTracker's phase lock) at the same rate.
+  rt::PeriodicTask tracker_task(
+      tracker_spec, [&tracker, &tracker_task](const rt::PeriodicTask::Cycle& c) {
+        if (const std::int64_t shift = tracker.tick(c.wake_ns); shift != 0)
+          tracker_task.shift_next_deadline(shift);
+      });
 
   std::unique_ptr<LiveMapper> mapper;
   std::unique_ptr<rt::PeriodicTask> mapper_task;
@@ -165,6 +189,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   const std::int64_t t_start = rt::monotonic_ns();
   std::int64_t next_status = t_start, next_progress = t_start;
   std::vector<float> track_ms;
+  std::vector<std::int64_t> latency_ns, wait_ns;  // arrival -> pose pushed; arrival -> tick
   bool ended = false;
   LiveStatusSources status_sources{
       &tracker_task, mapper_task.get(),   &tracker,        mapper.get(), &frames, &imu,
@@ -194,6 +219,10 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       out.replay.frames.push_back(r.frame);
       out.pose_flags.push_back(r.flags);
       track_ms.push_back(static_cast<float>(rt::ns_to_ms(r.track_ns)));
+      if (r.arrival_ns > 0) {
+        latency_ns.push_back(r.done_mono_ns - r.arrival_ns);
+        if (r.wake_ns > 0) wait_ns.push_back(r.wake_ns - r.arrival_ns);
+      }
     }
   };
   while (!ended) {
@@ -298,6 +327,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     out.track_p99_ns = at(0.99);
   }
   out.drops = total_drops(status_sources) + out.source.frame_drops + out.source.imu_drops;
+  out.pose_latency_ns = quantiles(latency_ns);
+  out.frame_wait_ns = quantiles(wait_ns);
+  out.tracker_phase_shift_ns = tracker_task.phase_shift_ns();
   if (r.frames.size() >= 2) {
     out.stream_s = rt::ns_to_s(r.frames.back().t_ns - r.frames.front().t_ns);
     out.real_time_factor = r.wall_s > 0 ? out.stream_s / r.wall_s : 0;

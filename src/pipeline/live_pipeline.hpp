@@ -64,6 +64,11 @@ struct LiveProgress {
   double total_stream_s = 0;  ///< recording length (0 live)
 };
 
+struct LatencyQuantiles {
+  std::int64_t p50_ns = 0, p99_ns = 0;
+  std::size_t count = 0;  ///< frames measured
+};
+
 struct LiveResult {
   ReplayResult replay;  ///< frames, counters, camera, map (for the RESULTS_DIR writer)
   LiveTrackerCounters tracker;
@@ -80,6 +85,11 @@ struct LiveResult {
   std::uint64_t tracker_cycles = 0, tracker_overruns = 0, tracker_missed = 0;
   std::int64_t cycle_p50_ns = 0, cycle_p99_ns = 0;  ///< tracker task body
   std::int64_t track_p50_ns = 0, track_p99_ns = 0;  ///< Odometry::track
+  /// Real time: a frame's arrival in the ring (the driver's CLOCK_MONOTONIC) to its pose in
+  /// the publisher's ring (DDS adds its transport; `vigs echo --receipt` measures that end),
+  /// and arrival to the tick that took it (the wait the phase lock shortens).
+  LatencyQuantiles pose_latency_ns, frame_wait_ns;
+  std::uint64_t tracker_phase_shift_ns = 0;  ///< how far the phase lock moved the ticks
   std::uint64_t drops = 0;
   double stream_s = 0;          ///< first to last frame stamp
   double real_time_factor = 0;  ///< stream_s / wall time from the first frame

@@ -43,7 +43,7 @@ PoseSample pose_sample(const TrackedFrame& f, std::uint64_t index, std::uint32_t
 
 LiveTracker::LiveTracker(const config::RobotConfig& cfg, const LiveTrackerSettings& settings,
                          const LiveTrackerRings& rings)
-    : cfg_(cfg), s_(settings), r_(rings) {
+    : cfg_(cfg), s_(settings), r_(rings), phase_lock_(settings.phase_lock) {
   early_imu_.reserve(kEarlyImuSamples);
 }
 
@@ -87,17 +87,24 @@ bool LiveTracker::take_frame(rt::FrameHandle& h) noexcept {
   return true;
 }
 
-void LiveTracker::tick() {
-  if (done() || failed()) return;
+std::int64_t LiveTracker::tick(std::int64_t wake_ns) {
+  if (done() || failed()) return 0;
   rt::FrameHandle h;
   while (take_frame(h)) {
     if (!h.valid()) {
       finish();
-      return;
+      return 0;
     }
-    process(h);
-    if (failed() || !s_.lockstep) return;
+    // Read before process() releases the slot.
+    const std::int64_t arrival_ns = r_.pool.frame(h).arrival_ns;
+    process(h, wake_ns);
+    if (failed()) return 0;
+    if (!s_.lockstep) {
+      const bool locking = s_.phase_lock.period_ns > 0 && wake_ns > 0 && arrival_ns > 0;
+      return locking ? phase_lock_.shift_ns(wake_ns, arrival_ns) : 0;
+    }
   }
+  return 0;
 }
 
 void LiveTracker::feed_imu(std::int64_t t_ns) noexcept {
@@ -146,7 +153,7 @@ bool LiveTracker::start_odometry(std::int64_t t_ns) {
   return true;
 }
 
-void LiveTracker::process(rt::FrameHandle h) noexcept {
+void LiveTracker::process(rt::FrameHandle h, std::int64_t wake_ns) noexcept {
   const rt::Frame& frame = r_.pool.frame(h);
   const std::int64_t t_ns = frame.t_ns;
   if (t_ns <= last_t_ns_) {
@@ -185,7 +192,9 @@ void LiveTracker::process(rt::FrameHandle h) noexcept {
   const PoseSample pose = pose_sample(f, frame_index_, flags, *odometry_);
   if (!wait([&] { return r_.poses.try_push(pose); }, "the publisher (pose ring)"))
     pose_drops_.add();
-  LiveFrameResult result{f, t1 - t0, rt::monotonic_ns(), pose.flags, false};
+  LiveFrameResult result{
+      f,          t1 - t0, rt::monotonic_ns(), frame.arrival_ns, s_.lockstep ? 0 : wake_ns,
+      pose.flags, false};
   if (!wait([&] { return r_.results.try_push(result); }, "the main thread (result ring)"))
     result_drops_.add();
   if (f.keyframe && r_.keyframes != nullptr) {

@@ -1,6 +1,9 @@
 #pragma once
 // LiveTracker: the body of the live pipeline's `tracker` task (rt::PeriodicTask at
 // camera.rate_hz). Each tick:
+//  0. (real time) slides its own ticks toward just after the frames' arrival (rt/phase_lock.hpp,
+//     rt.tracker_phase_lock): the task keeps camera.rate_hz, but a frame no longer waits up to
+//     a whole period in the ring before the tracker looks at it;
 //  1. takes the newest frame handle from the driver's ring; older queued frames are released
 //     and counted (skipped; the next pose is flagged kPoseFlagFramesSkipped). In lockstep it
 //     takes every queued frame in order instead, and nothing is skipped;
@@ -36,6 +39,7 @@
 #include "pipeline/odometry.hpp"
 #include "rt/counters.hpp"
 #include "rt/frame_pool.hpp"
+#include "rt/phase_lock.hpp"
 #include "rt/spsc_ring.hpp"
 
 namespace vigs::pipeline {
@@ -45,6 +49,8 @@ struct LiveFrameResult {
   TrackedFrame frame;
   std::int64_t track_ns = 0;      ///< inside Odometry::track
   std::int64_t done_mono_ns = 0;  ///< CLOCK_MONOTONIC when the pose was pushed
+  std::int64_t arrival_ns = 0;    ///< CLOCK_MONOTONIC when the driver queued the frame
+  std::int64_t wake_ns = 0;       ///< the tracker tick that took it woke (real time; 0 lockstep)
   std::uint32_t flags = 0;        ///< the published pose's PoseFlags
   bool end_of_stream = false;     ///< the last element: nothing follows
 };
@@ -55,6 +61,9 @@ struct LiveTrackerSettings {
   float depth_scale_m = 0.001f;                   ///< metres per raw depth unit in the pool
   PinholeCamera camera;
   OdometryOptions odometry;  ///< guess / fusion overrides; initial_T_w_c unset = gravity
+  /// Real time: phase-lock the ticks to the frames' arrival (rt.tracker_phase_lock; period 0 =
+  /// off, and always off in lockstep). tick() then returns the next deadline's shift.
+  rt::PhaseLockSettings phase_lock;
 };
 
 struct LiveTrackerRings {
@@ -85,8 +94,10 @@ class LiveTracker {
   LiveTracker(const config::RobotConfig& cfg, const LiveTrackerSettings& settings,
               const LiveTrackerRings& rings);
 
-  /// The task body (tracker thread only).
-  void tick();
+  /// The task body (tracker thread only); `wake_ns` is the tick's wake time. Returns the shift
+  /// of the next deadline the phase lock asks for (0 without a fresh frame, in lockstep, or
+  /// with the lock off): the pipeline hands it to rt::PeriodicTask::shift_next_deadline.
+  std::int64_t tick(std::int64_t wake_ns = 0);
 
   /// The frame stream ended and every result (and the end markers) were pushed.
   [[nodiscard]] bool done() const noexcept { return done_.load(std::memory_order_acquire); }
@@ -101,7 +112,7 @@ class LiveTracker {
 
  private:
   bool take_frame(rt::FrameHandle& h) noexcept;
-  void process(rt::FrameHandle h) noexcept;
+  void process(rt::FrameHandle h, std::int64_t wake_ns) noexcept;
   bool start_odometry(std::int64_t t_ns);
   void feed_imu(std::int64_t t_ns) noexcept;
   void finish() noexcept;
@@ -111,6 +122,7 @@ class LiveTracker {
   const config::RobotConfig& cfg_;
   LiveTrackerSettings s_;
   LiveTrackerRings r_;
+  rt::PhaseLock phase_lock_;
   std::optional<Odometry> odometry_;
   std::vector<ImuSample> early_imu_;  // samples before the Odometry exists (reserved)
   std::size_t early_fed_ = 0;

@@ -140,6 +140,7 @@ void RecordingSource::run(const std::stop_token& stop) {
     }
     copy_into(rec.view, pool_.frame(h), s_.depth_scale_m);
     pool_.frame(h).sequence = rec.index;
+    pool_.frame(h).arrival_ns = rt::monotonic_ns();
     if (push(
             stop, [&] { return frames_.try_push(h); }, "the frame ring")) {
       frames_out_.add();

@@ -101,6 +101,48 @@ TEST(PeriodicTask, SlowBodyProducesCountedOverruns) {
   EXPECT_GE(task.cycle_time().min(), ms_to_ns(5));
 }
 
+// shift_next_deadline moves the grid by the shift (clamped to half a period), and a shift
+// earlier never puts the next deadline before the end of the body that asked for it. Deadlines
+// are the task's own arithmetic, so the checks hold however late the thread wakes: a cycle that
+// overran skips whole periods, hence the checks modulo the period.
+TEST(PeriodicTask, ShiftMovesTheNextDeadlineAndTheGridWithIt) {
+  constexpr std::int64_t kPeriod = 20'000'000;
+  constexpr int kCycles = 9;
+  std::int64_t deadline[kCycles] = {};
+  std::int64_t end_of_7 = 0;
+  std::atomic<bool> finished{false};
+  PeriodicTask* self = nullptr;
+  PeriodicTask task(test_spec(kPeriod), [&](const PeriodicTask::Cycle& c) {
+    if (c.index >= kCycles) return;
+    deadline[c.index] = c.deadline_ns;
+    if (c.index == 2) self->shift_next_deadline(ms_to_ns(7));
+    if (c.index == 4) self->shift_next_deadline(-ms_to_ns(30));  // clamped to -10 ms
+    if (c.index == 7) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(15));
+      self->shift_next_deadline(-ms_to_ns(10));  // would land before the body's end
+      end_of_7 = monotonic_ns();
+    }
+    if (c.index == kCycles - 1) finished.store(true);
+  });
+  self = &task;
+  task.start();
+  const std::int64_t give_up = monotonic_ns() + s_to_ns(std::int64_t{10});
+  while (!finished.load() && monotonic_ns() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  task.stop();
+  ASSERT_TRUE(finished.load());
+  const auto mod = [](std::int64_t d) { return ((d % kPeriod) + kPeriod) % kPeriod; };
+  EXPECT_EQ(mod(deadline[1] - deadline[0]), 0);
+  EXPECT_EQ(mod(deadline[3] - deadline[2]), ms_to_ns(7));
+  EXPECT_EQ(mod(deadline[4] - deadline[3]), 0);  // the grid moved with the shift
+  EXPECT_EQ(mod(deadline[5] - deadline[4]), kPeriod - ms_to_ns(10));
+  EXPECT_EQ(mod(deadline[6] - deadline[5]), 0);
+  EXPECT_GE(deadline[8], end_of_7 - ms_to_ns(1));  // not before the body's end (+ clock reads)
+  EXPECT_GE(deadline[8] - deadline[7], ms_to_ns(15));
+  EXPECT_GE(task.phase_shift_ns(), static_cast<std::uint64_t>(ms_to_ns(17)));
+}
+
 TEST(PeriodicTask, BodyCanStopItsOwnTask) {
   std::atomic<std::uint64_t> runs{0};
   std::atomic<bool> finished{false};

@@ -6,11 +6,13 @@ namespace vigs::config {
 /// Real-time behaviour of the process. Priorities and CPUs per thread live in rt/'s
 /// thread table; these switches decide whether they are requested at all.
 struct RtSettings {
-  bool lock_memory = true;          ///< mlockall(MCL_CURRENT | MCL_FUTURE)
-  bool realtime_priorities = true;  ///< request SCHED_FIFO from the thread table
-  bool pin_cpus = true;             ///< apply the table's CPU affinities
-  int imu_ring_capacity = 1024;     ///< samples (power of two)
-  int frame_pool_slots = 8;         ///< preallocated RGB-D frames
+  bool lock_memory = true;             ///< mlockall(MCL_CURRENT | MCL_FUTURE)
+  bool realtime_priorities = true;     ///< request SCHED_FIFO from the thread table
+  bool pin_cpus = true;                ///< apply the table's CPU affinities
+  int imu_ring_capacity = 1024;        ///< samples (power of two)
+  int frame_pool_slots = 8;            ///< preallocated RGB-D frames
+  bool tracker_phase_lock = true;      ///< slide the tracker's ticks to the frames' arrival
+  double tracker_phase_lead_ms = 2.0;  ///< target tick - frame arrival (rt/phase_lock.hpp)
 
   void visit(Visitor& v) {
     v.field("lock_memory", lock_memory, "mlockall at start-up; warns once if refused");
@@ -21,6 +23,13 @@ struct RtSettings {
             {"samples", 16, 65536, "IMU driver to tracker ring; full = drop newest, counted"});
     v.field("frame_pool_slots", frame_pool_slots,
             {"frames", 2, 256, "preallocated RGB-D frame slots"});
+    v.field("tracker_phase_lock", tracker_phase_lock,
+            "real time: phase-lock the tracker's fixed-rate ticks to the camera frames' arrival "
+            "(false: ticks at an arbitrary phase, each frame waits up to one period)");
+    v.field("tracker_phase_lead_ms", tracker_phase_lead_ms,
+            {"ms", 0.0, 1000.0,
+             "phase lock: the tick's target delay after a frame's arrival (the arrival "
+             "jitter's margin)"});
     v.require((imu_ring_capacity & (imu_ring_capacity - 1)) == 0, "imu_ring_capacity",
               "must be a power of two");
   }
