@@ -36,6 +36,8 @@ InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings&
   o.initial_gyro_bias_sigma_rps = inertial.fused_initial_gyro_bias_sigma_rps;
   o.initial_accel_bias_sigma_mps2 = inertial.fused_initial_accel_bias_sigma_mps2;
   o.estimate_accel_bias = inertial.estimate_accel_bias;
+  o.extra_accel_noise_density = inertial.fused_extra_accel_noise_density;
+  o.extra_accel_random_walk = inertial.fused_extra_accel_random_walk;
   return o;
 }
 
@@ -172,11 +174,19 @@ bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState&
   P_pred = Phi * P_ * Phi.transpose() + G * p->covariance() * G.transpose();
   const double dt = p->dt_s();
   const double qg = options_.gyro_random_walk * options_.gyro_random_walk * dt;
-  const double qa = options_.estimate_accel_bias
-                        ? options_.accel_random_walk * options_.accel_random_walk * dt
-                        : 0.0;
+  const double ra = options_.accel_random_walk, xa = options_.extra_accel_random_walk;
+  const double qa = options_.estimate_accel_bias ? (ra * ra + xa * xa) * dt : 0.0;
   P_pred.block<3, 3>(9, 9).diagonal().array() += qg;
   P_pred.block<3, 3>(12, 12).diagonal().array() += qa;
+  // Unmodelled white acceleration q over dt (isotropic, so the frame does not matter):
+  // Q_pp = q dt^3/3, Q_pv = q dt^2/2, Q_vv = q dt.
+  const double q = options_.extra_accel_noise_density * options_.extra_accel_noise_density;
+  if (q > 0.0) {
+    P_pred.block<3, 3>(3, 3).diagonal().array() += q * dt * dt * dt / 3.0;
+    P_pred.block<3, 3>(3, 6).diagonal().array() += q * dt * dt / 2.0;
+    P_pred.block<3, 3>(6, 3).diagonal().array() += q * dt * dt / 2.0;
+    P_pred.block<3, 3>(6, 6).diagonal().array() += q * dt;
+  }
   return true;
 }
 

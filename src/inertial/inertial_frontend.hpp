@@ -50,6 +50,10 @@ struct InertialFrontendOptions {
   double initial_gyro_bias_sigma_rps = 0.01;
   double initial_accel_bias_sigma_mps2 = 0.1;
   bool estimate_accel_bias = true;  ///< fused mode: false pins the accel bias (sigma 0)
+  /// Fused mode: unmodelled white acceleration (m/s^2/sqrt(Hz), world frame) and extra
+  /// accel-bias random walk (m/s^3/sqrt(Hz)) in the prediction (config::InertialSettings).
+  double extra_accel_noise_density = 0.0;
+  double extra_accel_random_walk = 0.0;
 
   static InertialFrontendOptions from(const config::ImuSettings& imu,
                                       const config::ExtrinsicsSettings& extrinsics,

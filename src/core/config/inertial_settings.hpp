@@ -21,6 +21,12 @@ struct InertialSettings {
   double fused_initial_velocity_sigma_mps = 0.1;     ///< at the first frame (at rest)
   double fused_initial_gyro_bias_sigma_rps = 0.01;   ///< prior sigma of the gyro bias
   double fused_initial_accel_bias_sigma_mps2 = 0.1;  ///< prior sigma of the accel bias
+  /// Process noise the IMU's own model leaves out (the map's frame tilting against gravity as
+  /// it drifts, the extrinsic's error, the world frame's motion under GICP): white acceleration
+  /// and accelerometer-bias random walk added to the filter's prediction. Without them the
+  /// filter trusts its velocity and biases far beyond what GICP can correct (BENCHMARKS.md).
+  double fused_extra_accel_noise_density = 0.2;  ///< m/s^2/sqrt(Hz)
+  double fused_extra_accel_random_walk = 0.03;   ///< m/s^3/sqrt(Hz)
 
   void visit(Visitor& v) {
     v.field("scheme", scheme, {"midpoint", "zoh"},
@@ -50,6 +56,13 @@ struct InertialSettings {
             {"rad/s", 1e-9, 10.0, "fused tracking: prior sigma of the gyro bias"});
     v.field("fused_initial_accel_bias_sigma_mps2", fused_initial_accel_bias_sigma_mps2,
             {"m/s^2", 1e-9, 100.0, "fused tracking: prior sigma of the accelerometer bias"});
+    v.field("fused_extra_accel_noise_density", fused_extra_accel_noise_density,
+            {"m/s^2/sqrt(Hz)", 0.0, 100.0,
+             "fused tracking: white acceleration noise added to the prediction for what the "
+             "IMU model leaves out (map tilt, extrinsic error)"});
+    v.field("fused_extra_accel_random_walk", fused_extra_accel_random_walk,
+            {"m/s^3/sqrt(Hz)", 0.0, 100.0,
+             "fused tracking: accelerometer-bias random walk added to the imu's"});
   }
 };
 
