@@ -7,6 +7,7 @@
 #include "core/geometry/so3.hpp"
 #include "sim/floor_plan.hpp"
 #include "sim/realistic_motion.hpp"
+#include "sim/simulator.hpp"
 #include "tests/sim/imu_integration.hpp"
 
 namespace vigs::sim {
@@ -18,7 +19,9 @@ RealisticMotion office_motion(std::uint64_t seed) {
 }
 
 /// Heading of the body x axis in the floor plane.
-double heading(const BodyState& st) { return std::atan2(st.R_w_b(1, 0), st.R_w_b(0, 0)); }
+double heading(const BodyState& st) {
+  return std::atan2(st.R_w_b(1, 0), st.R_w_b(0, 0));
+}
 
 /// Horizontal speed over a 0.2 s window (averages the vibration out).
 double smoothed_speed(const Trajectory& tr, double t) {
@@ -78,10 +81,10 @@ TEST(RealisticMotion, StopsBrakesAndQuickTurns) {
       dyaw = std::remainder(dyaw, 2 * M_PI);
       max_yaw_rate = std::max(max_yaw_rate, std::abs(dyaw) / 0.1);
     }
-    EXPECT_GE(longest_stop_s, 1.0) << seed;            // a real standstill mid-route
-    EXPECT_GT(max_accel, 1.0) << seed;                 // braking / accelerating at 1-2 m/s^2
+    EXPECT_GE(longest_stop_s, 1.0) << seed;  // a real standstill mid-route
+    EXPECT_GT(max_accel, 1.0) << seed;       // braking / accelerating at 1-2 m/s^2
     EXPECT_LT(max_accel, 2.6) << seed;
-    EXPECT_GT(hard_ramps, 20) << seed;                 // more than a moment
+    EXPECT_GT(hard_ramps, 20) << seed;                   // more than a moment
     EXPECT_GT(max_yaw_rate, 80.0 * M_PI / 180) << seed;  // quick turns at corners
     EXPECT_LT(max_yaw_rate, 140.0 * M_PI / 180) << seed;
   }
@@ -134,6 +137,21 @@ TEST(RealisticMotion, StaysOnCorridorCentreLines) {
     for (double c : p.corridor_centers_m)
       off = std::min({off, std::abs(q.x() - c), std::abs(q.y() - c)});
     EXPECT_LT(off, 0.35) << t;  // the smooth route's corner cut plus under a millimetre
+  }
+}
+
+TEST(RealisticMotion, SimMotionKeySelectsTheProfile) {
+  config::RobotConfig cfg;
+  cfg.sim.humans = 0;
+  cfg.sim.seed = 3;
+  const RealisticMotion expected = office_motion(3);
+  cfg.sim.motion = "realistic";
+  const Simulator realistic(cfg);
+  cfg.sim.motion = "smooth";
+  const Simulator smooth(cfg);
+  for (double t : {17.3, 33.3, 58.1}) {
+    EXPECT_EQ(realistic.trajectory().state(t).p_w_m, expected.state(t).p_w_m) << t;
+    EXPECT_GT((smooth.trajectory().state(t).p_w_m - expected.state(t).p_w_m).norm(), 0.01) << t;
   }
 }
 
