@@ -15,7 +15,9 @@ double smoothstep(double tau) {
   const double t = std::clamp(tau, 0.0, 1.0);
   return t * t * (3.0 - 2.0 * t);
 }
-double smoothstep_slope(double tau) { return tau <= 0.0 || tau >= 1.0 ? 0.0 : 6.0 * tau * (1.0 - tau); }
+double smoothstep_slope(double tau) {
+  return tau <= 0.0 || tau >= 1.0 ? 0.0 : 6.0 * tau * (1.0 - tau);
+}
 
 }  // namespace
 

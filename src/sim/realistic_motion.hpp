@@ -29,15 +29,15 @@ struct RealisticMotionParams {
   double accel_max_mps2 = 2.0;
   double turn_rate_min_rps = 1.5708;  ///< peak yaw rate of a corner turn, drawn per corner
   double turn_rate_max_rps = 2.0944;
-  double min_turn_rad = 0.2;       ///< heading changes below this are not corners
-  double corner_half_u = 1.2;      ///< slow zone: corner +- this (knot intervals)
-  double stop_probability = 0.5;   ///< per straight with room for a stop (the first always)
+  double min_turn_rad = 0.2;      ///< heading changes below this are not corners
+  double corner_half_u = 1.2;     ///< slow zone: corner +- this (knot intervals)
+  double stop_probability = 0.5;  ///< per straight with room for a stop (the first always)
   double stop_min_s = 1.5, stop_max_s = 3.0;
   double step_min_hz = 1.6, step_max_hz = 1.9;
-  double bob_m = 0.02;             ///< vertical bob amplitude at cruise
-  double bob_roll_rad = 0.025;     ///< roll sway at the stride frequency (step / 2)
-  double bob_pitch_rad = 0.008;    ///< pitch nod at the step frequency
-  double bob_yaw_rad = 0.012;      ///< yaw sway at the stride frequency
+  double bob_m = 0.02;           ///< vertical bob amplitude at cruise
+  double bob_roll_rad = 0.025;   ///< roll sway at the stride frequency (step / 2)
+  double bob_pitch_rad = 0.008;  ///< pitch nod at the step frequency
+  double bob_yaw_rad = 0.012;    ///< yaw sway at the stride frequency
   /// Vibration: two sinusoids per axis at cruise, each with an acceleration amplitude of up
   /// to vibration_mps2 (0.6 mm at 8 Hz, 0.04 mm at 30 Hz) and an angular-rate amplitude of
   /// up to vibration_rps (0.11 deg at 8 Hz, 0.03 deg at 30 Hz).

@@ -14,7 +14,9 @@ void SpeedProfile::push(double r1, double seconds) {
   rate_end_ = r1;
 }
 
-void SpeedProfile::hold(double seconds) { push(rate_end_, seconds); }
+void SpeedProfile::hold(double seconds) {
+  push(rate_end_, seconds);
+}
 
 void SpeedProfile::ramp(double rate, double seconds) {
   if (rate < 0.0) throw std::invalid_argument("speed profile: negative rate");

@@ -12,9 +12,9 @@ void set_attitude(const EulerZyx& e, BodyState& st) {
                  .toRotationMatrix();
   const double sp = std::sin(e.pitch), cp = std::cos(e.pitch);
   const double sr = std::sin(e.roll), cr = std::cos(e.roll);
-  st.omega_b_rps = Eigen::Vector3d(e.roll_rate - e.yaw_rate * sp,
-                                   e.pitch_rate * cr + e.yaw_rate * cp * sr,
-                                   -e.pitch_rate * sr + e.yaw_rate * cp * cr);
+  st.omega_b_rps =
+      Eigen::Vector3d(e.roll_rate - e.yaw_rate * sp, e.pitch_rate * cr + e.yaw_rate * cp * sr,
+                      -e.pitch_rate * sr + e.yaw_rate * cp * cr);
 }
 
 }  // namespace vigs::sim
