@@ -3,8 +3,11 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <utility>
 
 #include "sim/floor_plan.hpp"
+#include "sim/realistic_motion.hpp"
+#include "sim/spline_trajectory.hpp"
 
 namespace vigs::sim {
 namespace {
@@ -47,7 +50,15 @@ Simulator::Simulator(const config::RobotConfig& cfg)
   TrajectoryParams tp;
   tp.spacing_m = cfg.sim.speed_mps * tp.knot_interval_s;
   tp.height_m = cfg.sim.camera_height_m;
-  trajectory_ = std::make_unique<SplineTrajectory>(scene_.route, tp);
+  SplineTrajectory route(scene_.route, tp);
+  if (cfg.sim.motion == "realistic") {
+    RealisticMotionParams rp;
+    rp.cruise_mps = cfg.sim.speed_mps;
+    trajectory_ = std::make_unique<RealisticMotion>(std::move(route),
+                                                    static_cast<std::uint64_t>(cfg.sim.seed), rp);
+  } else {
+    trajectory_ = std::make_unique<SplineTrajectory>(std::move(route));
+  }
   walkers_ = make_walkers(scene_, cfg.sim.humans, static_cast<std::uint64_t>(cfg.sim.seed));
   renderer_ = std::make_unique<Renderer>(scene_, camera_, render_settings(cfg));
   duration_s_ = cfg.sim.seconds > 0.0 ? std::min(cfg.sim.seconds, trajectory_->duration_s())

@@ -13,7 +13,7 @@
 #include "sim/renderer.hpp"
 #include "sim/scene.hpp"
 #include "sim/sim_sink.hpp"
-#include "sim/spline_trajectory.hpp"
+#include "sim/trajectory.hpp"
 
 namespace vigs::sim {
 
@@ -30,7 +30,7 @@ struct SimStats {
 
 class Simulator {
  public:
-  /// Uses cfg.sim (preset, humans, seconds, seed, gray, noise), cfg.camera, cfg.imu and
+  /// Uses cfg.sim (preset, humans, seconds, seed, gray, noise, motion), cfg.camera, cfg.imu and
   /// cfg.extrinsics. Throws std::invalid_argument on an unknown preset.
   explicit Simulator(const config::RobotConfig& cfg);
 
@@ -49,7 +49,7 @@ class Simulator {
   [[nodiscard]] double duration_s() const { return duration_s_; }
 
   [[nodiscard]] const Scene& scene() const { return scene_; }
-  [[nodiscard]] const SplineTrajectory& trajectory() const { return *trajectory_; }
+  [[nodiscard]] const Trajectory& trajectory() const { return *trajectory_; }
   [[nodiscard]] const std::vector<Walker>& walkers() const { return walkers_; }
   [[nodiscard]] const Renderer& renderer() const { return *renderer_; }
   [[nodiscard]] const geometry::Pose& T_b_c() const { return T_b_c_; }
@@ -61,7 +61,7 @@ class Simulator {
  private:
   config::RobotConfig cfg_;
   Scene scene_;
-  std::unique_ptr<SplineTrajectory> trajectory_;
+  std::unique_ptr<Trajectory> trajectory_;
   std::vector<Walker> walkers_;
   PinholeCamera camera_;
   std::unique_ptr<Renderer> renderer_;

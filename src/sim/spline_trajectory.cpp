@@ -1,6 +1,5 @@
 #include "sim/spline_trajectory.hpp"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -35,6 +34,7 @@ SplineTrajectory::SplineTrajectory(const std::vector<Eigen::Vector2d>& route,
     return Eigen::Vector3d(q.x(), q.y(), p.height_m);
   };
   const int still = std::max(0, static_cast<int>(std::lround(p.standstill_s / p.knot_interval_s)));
+  still_knots_ = still;
   for (int k = 0; k < still + 3; ++k) ctrl_.push_back(to3(route.front()));
   for (std::size_t i = 0; i + 1 < route.size(); ++i) {
     const Eigen::Vector2d d = route[i + 1] - route[i];
@@ -78,6 +78,21 @@ SplineTrajectory::SplineTrajectory(const std::vector<Eigen::Vector2d>& route,
   duration_s_ = static_cast<double>(n - 3) * p.knot_interval_s;
 }
 
+PathPoint SplineTrajectory::path(double u_in) const {
+  const double u = std::clamp(u_in, 0.0, u_end());
+  std::size_t i = static_cast<std::size_t>(std::floor(u));
+  i = std::min(i, ctrl_.size() - 4);
+  double b[4], db[4], ddb[4];
+  basis(u - static_cast<double>(i), b, db, ddb);
+  PathPoint out{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  for (int j = 0; j < 4; ++j) {
+    out.p_w_m += b[j] * ctrl_[i + j];
+    out.dp_du_m += db[j] * ctrl_[i + j];
+    out.d2p_du2_m += ddb[j] * ctrl_[i + j];
+  }
+  return out;
+}
+
 BodyState SplineTrajectory::state(double t_s) const {
   const double t = std::clamp(t_s, 0.0, duration_s_);
   const double dt = p_.knot_interval_s;
@@ -105,13 +120,7 @@ BodyState SplineTrajectory::state(double t_s) const {
   const double pitch_rate = p_.pitch_amp_rad * wp * std::cos(wp * t);
   const double roll = p_.roll_amp_rad * std::sin(wr * t + 1.0);
   const double roll_rate = p_.roll_amp_rad * wr * std::cos(wr * t + 1.0);
-  st.R_w_b = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-              Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-              Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-                 .toRotationMatrix();
-  const double sp = std::sin(pitch), cp = std::cos(pitch), sr = std::sin(roll), cr = std::cos(roll);
-  st.omega_b_rps = Eigen::Vector3d(roll_rate - yaw_rate * sp, pitch_rate * cr + yaw_rate * cp * sr,
-                                   -pitch_rate * sr + yaw_rate * cp * cr);
+  set_attitude({yaw, pitch, roll, yaw_rate, pitch_rate, roll_rate}, st);
   return st;
 }
 

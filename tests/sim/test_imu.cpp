@@ -6,57 +6,30 @@
 #include "core/geometry/so3.hpp"
 #include "sim/floor_plan.hpp"
 #include "sim/imu_synth.hpp"
+#include "sim/spline_trajectory.hpp"
+#include "tests/sim/imu_integration.hpp"
 
 namespace vigs::sim {
 namespace {
 
-struct IntegrationError {
-  double position_m = 0, rotation_rad = 0, velocity_mps = 0;
-};
-
-/// Integrates noise-free IMU samples (trapezoidal in rotation, velocity and position) from
-/// the true state at t0 for `seconds`, and compares with the trajectory at the end.
-IntegrationError integrate(double rate_hz, double t0, double seconds) {
+/// Integrates noise-free IMU samples of the smooth office route (seed 2).
+test::IntegrationError integrate(double rate_hz, double t0, double seconds) {
   const Scene s = make_preset("office", 2);
   const SplineTrajectory traj(s.route);
-  config::ImuSettings cfg;
-  cfg.rate_hz = rate_hz;
-  ImuSynthesizer imu(cfg, 1, /*noisy=*/false);
-  const double dt = 1.0 / rate_hz;
-  const Eigen::Vector3d g(0, 0, -cfg.gravity_mps2);
-  BodyState st = traj.state(t0);
-  Eigen::Matrix3d R = st.R_w_b;
-  Eigen::Vector3d v = st.v_w_mps, p = st.p_w_m;
-  ImuSample m0 = imu.measure(st, 0);
-  const int n = static_cast<int>(std::lround(seconds * rate_hz));
-  for (int k = 1; k <= n; ++k) {
-    const ImuSample m1 = imu.measure(traj.state(t0 + k * dt), k);
-    const Eigen::Vector3d w0(m0.gyro_rps), w1(m1.gyro_rps);
-    const Eigen::Vector3d f0(m0.accel_mps2), f1(m1.accel_mps2);
-    const Eigen::Matrix3d R1 = R * geometry::so3_exp<double>(0.5 * (w0 + w1) * dt);
-    const Eigen::Vector3d a0 = R * f0 + g, a1 = R1 * f1 + g;
-    const Eigen::Vector3d v1 = v + 0.5 * (a0 + a1) * dt;
-    p += 0.5 * (v + v1) * dt;
-    v = v1;
-    R = R1;
-    m0 = m1;
-  }
-  const BodyState end = traj.state(t0 + n * dt);
-  return {(p - end.p_w_m).norm(), geometry::rotation_angle(R.transpose() * end.R_w_b),
-          (v - end.v_w_mps).norm()};
+  return test::integrate_imu(traj, rate_hz, t0, seconds);
 }
 
 TEST(ImuSynthesis, NoiseFreeImuIntegratesBackToGroundTruth) {
   // On straights and through the first corner of the office route (t = 24..29 s).
   for (double t0 : {3.0, 20.0, 24.0, 60.0}) {
-    const IntegrationError e = integrate(1000.0, t0, 5.0);
+    const test::IntegrationError e = integrate(1000.0, t0, 5.0);
     // Measured (office seed 2): at most 8e-7 m, 7e-8 rad, 3e-7 m/s; bounds leave 10x.
     EXPECT_LT(e.position_m, 1e-5) << t0;
     EXPECT_LT(e.rotation_rad, 1e-6) << t0;
     EXPECT_LT(e.velocity_mps, 5e-6) << t0;
     // At the recorded 200 Hz (measured: 2e-5 m, 1.7e-6 rad) the discretisation error of the
     // trapezoidal rule is still far below a millimetre.
-    const IntegrationError e200 = integrate(200.0, t0, 5.0);
+    const test::IntegrationError e200 = integrate(200.0, t0, 5.0);
     EXPECT_LT(e200.position_m, 2e-4) << t0;
     EXPECT_LT(e200.rotation_rad, 2e-5) << t0;
   }

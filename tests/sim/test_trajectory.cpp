@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "core/geometry/so3.hpp"
 #include "sim/floor_plan.hpp"
 #include "sim/spline_trajectory.hpp"
+#include "tests/sim/derivative_check.hpp"
 
 namespace vigs::sim {
 namespace {
@@ -12,16 +12,7 @@ namespace {
 TEST(SplineTrajectory, AnalyticDerivativesMatchFiniteDifferences) {
   const Scene s = make_preset("office", 3);
   const SplineTrajectory traj(s.route);
-  const double h = 1e-4;
-  for (double t = 1.5; t < 120.0; t += 3.7) {
-    const BodyState st = traj.state(t);
-    const BodyState a = traj.state(t - h), b = traj.state(t + h);
-    EXPECT_LT((st.v_w_mps - (b.p_w_m - a.p_w_m) / (2 * h)).norm(), 1e-6) << t;
-    EXPECT_LT((st.a_w_mps2 - (b.v_w_mps - a.v_w_mps) / (2 * h)).norm(), 1e-5) << t;
-    const Eigen::Vector3d omega_fd =
-        geometry::so3_log<double>(a.R_w_b.transpose() * b.R_w_b) / (2 * h);
-    EXPECT_LT((st.omega_b_rps - omega_fd).norm(), 1e-6) << t;
-  }
+  test::expect_analytic_derivatives(traj, 1.5, 120.0, 3.7, 1e-4, {});
 }
 
 TEST(SplineTrajectory, DynamicallyPlausibleLongAndRevisiting) {

@@ -20,6 +20,9 @@ struct SimSettings {
   double hole_incidence_cos = 0.12;
   double dropout_incidence_cos = 0.25;
   double rgb_noise_sigma = 1.0;
+  /// Carrier motion: smooth (B-spline route, steady speed) | realistic (stop-and-go, quick
+  /// turns at corners, walking bob, vibration; sim/realistic_motion.hpp).
+  std::string motion = "smooth";
   double speed_mps = 1.2;        ///< cruise speed (control point spacing per knot interval)
   double camera_height_m = 1.3;  ///< body height above the floor
   int render_threads = 2;
@@ -41,6 +44,9 @@ struct SimSettings {
     v.field("dropout_incidence_cos", dropout_incidence_cos,
             {"-", 0.0, 1.0, "depth missing with rising probability below this cosine"});
     v.field("rgb_noise_sigma", rgb_noise_sigma, {"grey levels", 0.0, 50.0, "image noise"});
+    v.field("motion", motion, {"smooth", "realistic"},
+            "carrier motion: smooth B-spline route, or realistic (stop-and-go, quick turns, "
+            "walking bob, vibration)");
     v.field("speed_mps", speed_mps, {"m/s", 0.1, 1.5, "cruise speed along the route"});
     v.field("camera_height_m", camera_height_m, {"m", 0.3, 2.0, "body height above floor"});
     v.field("render_threads", render_threads, {"-", 1, 64, "ray-casting threads"});
