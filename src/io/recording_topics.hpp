@@ -51,8 +51,14 @@ inline constexpr RecordedTopic kCameraTrigger{
     "time_ref = the frame-sync edge's kernel stamp (CLOCK_MONOTONIC), source = chip:line",
     "camera"};
 
-inline constexpr std::array<RecordedTopic, 7> kAll{kCameraInfo, kRgb,       kDepth,        kImu,
-                                                   kBodyPose,   kImuSerial, kCameraTrigger};
+/// Written by `vigs run --record`: the pose the tracker published for each frame it tracked.
+inline constexpr RecordedTopic kPose{
+    "/vigs/pose", "geometry_msgs/msg/PoseStamped",
+    "T_w_c: the tracker's camera pose, position m, unit quaternion; stamp = the frame's",
+    "map (dds.map_frame_id)"};
+
+inline constexpr std::array<RecordedTopic, 8> kAll{kCameraInfo, kRgb,       kDepth,         kImu,
+                                                   kBodyPose,   kImuSerial, kCameraTrigger, kPose};
 
 }  // namespace topics
 
@@ -68,5 +74,6 @@ static_assert(topics::kImuSerial.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::SerialChunk>::kRos2Name);
 static_assert(topics::kCameraTrigger.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::TimeReference>::kRos2Name);
+static_assert(topics::kPose.ros2_type == ros_msgs::MessageTraits<ros_msgs::PoseStamped>::kRos2Name);
 
 }  // namespace vigs::io

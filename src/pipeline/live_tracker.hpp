@@ -4,7 +4,11 @@
 //  1. takes the newest frame handle from the driver's ring; older queued frames are released
 //     and counted (skipped; the next pose is flagged kPoseFlagFramesSkipped). In lockstep it
 //     takes every queued frame in order instead, and nothing is skipped;
-//  2. moves the IMU samples with t <= the frame's stamp from the IMU ring into the Odometry;
+//  2. moves the IMU samples with t <= the frame's stamp from the IMU ring into the Odometry,
+//     first waiting (up to 50 ms; not in lockstep, nor while the IMU is stale) until the IMU
+//     has delivered a sample after the stamp: the frame is then tracked with every sample up
+//     to it whichever driver delivered first, as `vigs replay --as-run` of a `vigs run
+//     --record` file does (a timeout is counted: imu_late);
 //  3. tracks (Odometry::track on the FramePool slot's RgbdView, no copy);
 //  4. pushes the PoseSample into the publisher's ring and the frame's result into the
 //     trajectory ring (both: full -> drop newest and count; lockstep: wait for room), and a
@@ -74,6 +78,7 @@ struct LiveTrackerCounters {
   std::uint64_t imu_samples = 0;  ///< moved into the Odometry
   std::uint64_t imu_refused = 0;  ///< older than the previous sample
   std::uint64_t imu_unavailable = 0;
+  std::uint64_t imu_late = 0;  ///< tracked before the IMU passed the frame (50 ms wait ran out)
   std::uint64_t pose_drops = 0;
   std::uint64_t result_drops = 0;
   std::uint64_t keyframes = 0;
@@ -104,6 +109,7 @@ class LiveTracker {
   void process(rt::FrameHandle h) noexcept;
   bool start_odometry(std::int64_t t_ns);
   void feed_imu(std::int64_t t_ns) noexcept;
+  void await_imu(std::int64_t t_ns) noexcept;
   void finish() noexcept;
   template <class Pred>
   bool wait(Pred&& ready, const char* what) noexcept;
@@ -124,7 +130,7 @@ class LiveTracker {
   std::atomic<bool> failed_{false};
   char failure_[160] = {};
   rt::SingleWriterCounter frames_, skipped_, waiting_imu_, out_of_order_, imu_samples_,
-      imu_refused_, imu_unavailable_, pose_drops_, result_drops_, keyframes_;
+      imu_refused_, imu_unavailable_, imu_late_, pose_drops_, result_drops_, keyframes_;
 };
 
 }  // namespace vigs::pipeline

@@ -1,5 +1,6 @@
 #include "pipeline/lockstep_replay.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <span>
@@ -90,8 +91,22 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   std::optional<LockstepMapper> mapper;
   ImuFeeder feeder(motion.imu);
   std::int64_t last_t_ns = 0;
+  // as_run: the stamps of the frames the recording's run tracked (its /vigs/pose messages).
+  std::vector<std::int64_t> run_stamps;
+  if (options.as_run) {
+    const RecordedMotion run = read_recorded_motion(
+        path, options.imu_topic, std::string(io::topics::kPose.name), options.allow_damaged);
+    for (const StampedPose& p : run.body_poses) run_stamps.push_back(p.t_ns);
+    if (run_stamps.empty())
+      throw RecordingError(path + ": no poses on " + std::string(io::topics::kPose.name) +
+                           " to replay as the run did (recorded by vigs run --record)");
+  }
   const auto on_recorded = [&](const io::RecordedFrame& rec) {
     const std::int64_t t_ns = rec.view.t_ns;
+    if (options.as_run && !std::binary_search(run_stamps.begin(), run_stamps.end(), t_ns)) {
+      ++result.frames_not_tracked_by_run;
+      return;
+    }
     if (!odometry) {
       OdometryOptions opt;
       opt.guess = options.guess;
