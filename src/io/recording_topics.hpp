@@ -57,8 +57,15 @@ inline constexpr RecordedTopic kPose{
     "T_w_c: the tracker's camera pose, position m, unit quaternion; stamp = the frame's",
     "map (dds.map_frame_id)"};
 
-inline constexpr std::array<RecordedTopic, 8> kAll{kCameraInfo, kRgb,       kDepth,         kImu,
-                                                   kBodyPose,   kImuSerial, kCameraTrigger, kPose};
+/// Written by `vigs run --record`: for each tracked frame (header stamp), the stamp of the newest
+/// IMU sample the tracker had used (time_ref), so `vigs replay --as-run` feeds the same samples.
+inline constexpr RecordedTopic kTrackerImu{"/vigs/pose/imu_used", "sensor_msgs/msg/TimeReference",
+                                           "time_ref = newest IMU sample (t_ns) in the odometry "
+                                           "when the frame at header stamp was tracked",
+                                           "camera"};
+
+inline constexpr std::array<RecordedTopic, 9> kAll{
+    kCameraInfo, kRgb, kDepth, kImu, kBodyPose, kImuSerial, kCameraTrigger, kPose, kTrackerImu};
 
 }  // namespace topics
 
@@ -73,6 +80,8 @@ static_assert(topics::kBodyPose.ros2_type ==
 static_assert(topics::kImuSerial.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::SerialChunk>::kRos2Name);
 static_assert(topics::kCameraTrigger.ros2_type ==
+              ros_msgs::MessageTraits<ros_msgs::TimeReference>::kRos2Name);
+static_assert(topics::kTrackerImu.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::TimeReference>::kRos2Name);
 static_assert(topics::kPose.ros2_type == ros_msgs::MessageTraits<ros_msgs::PoseStamped>::kRos2Name);
 

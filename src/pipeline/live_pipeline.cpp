@@ -32,12 +32,15 @@ struct RecordTaps {
   rt::SpscRing<rt::FrameHandle> frames{kFrameTap};
   rt::SpscRing<ImuSample> imu{4096};
   rt::SpscRing<drivers::SerialBytes> bytes{1024};
-  rt::SpscRing<PoseSample> poses{kPoseRing};  // filled by the main thread from the results
+  rt::SpscRing<record::RecordedPose> poses{kPoseRing};  // the main thread fills it (results)
   std::uint64_t pose_drops = 0;
 };
 
-PoseSample recorded_pose(const TrackedFrame& f, std::uint64_t index) {
-  PoseSample p;
+record::RecordedPose recorded_pose(const LiveFrameResult& r, std::uint64_t index) {
+  const TrackedFrame& f = r.frame;
+  record::RecordedPose rp;
+  rp.imu_t_ns = r.imu_t_ns;
+  PoseSample& p = rp.pose;
   p.t_ns = f.t_ns;
   p.frame_index = index;
   const Eigen::Vector3d t = f.T_w_c.translation();
@@ -47,7 +50,7 @@ PoseSample recorded_pose(const TrackedFrame& f, std::uint64_t index) {
   p.q_w_xyzw[1] = q.y();
   p.q_w_xyzw[2] = q.z();
   p.q_w_xyzw[3] = q.w();
-  return p;
+  return rp;
 }
 
 rt::ThreadSpec table_spec(const char* name, const config::RtSettings& rt) {
@@ -250,7 +253,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
         ended = true;
         continue;
       }
-      if (taps && !taps->poses.try_push(recorded_pose(r.frame, out.replay.frames.size())))
+      if (taps && !taps->poses.try_push(recorded_pose(r, out.replay.frames.size())))
         ++taps->pose_drops;
       out.replay.frames.push_back(r.frame);
       out.pose_flags.push_back(r.flags);

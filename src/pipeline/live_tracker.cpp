@@ -214,7 +214,7 @@ void LiveTracker::process(rt::FrameHandle h) noexcept {
   const PoseSample pose = pose_sample(f, frame_index_, flags, *odometry_);
   if (!wait([&] { return r_.poses.try_push(pose); }, "the publisher (pose ring)"))
     pose_drops_.add();
-  LiveFrameResult result{f, t1 - t0, rt::monotonic_ns(), pose.flags, false};
+  LiveFrameResult result{f, t1 - t0, rt::monotonic_ns(), pose.flags, false, last_imu_t_ns_};
   if (!wait([&] { return r_.results.try_push(result); }, "the main thread (result ring)"))
     result_drops_.add();
   if (f.keyframe && r_.keyframes != nullptr) {

@@ -47,10 +47,11 @@ namespace vigs::pipeline {
 /// One tracked frame as the main thread collects it.
 struct LiveFrameResult {
   TrackedFrame frame;
-  std::int64_t track_ns = 0;      ///< inside Odometry::track
-  std::int64_t done_mono_ns = 0;  ///< CLOCK_MONOTONIC when the pose was pushed
-  std::uint32_t flags = 0;        ///< the published pose's PoseFlags
-  bool end_of_stream = false;     ///< the last element: nothing follows
+  std::int64_t track_ns = 0;          ///< inside Odometry::track
+  std::int64_t done_mono_ns = 0;      ///< CLOCK_MONOTONIC when the pose was pushed
+  std::uint32_t flags = 0;            ///< the published pose's PoseFlags
+  bool end_of_stream = false;         ///< the last element: nothing follows
+  std::int64_t imu_t_ns = INT64_MIN;  ///< newest IMU sample in the Odometry when tracked
 };
 
 struct LiveTrackerSettings {

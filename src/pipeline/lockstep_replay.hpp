@@ -69,10 +69,10 @@ struct ReplayOptions {
   /// Replay the intact part of a damaged recording (ReplayResult::damage says what was found)
   /// instead of refusing it.
   bool allow_damaged = false;
-  /// Track only the frames the recording's own run tracked: those with a pose on /vigs/pose
-  /// (`vigs run --record`). A live tracker skips to the newest frame and releases frames that
-  /// come before the IMU's first sample; replaying as the run did gives its trajectory bit for
-  /// bit (the frames between are read and not tracked, their IMU samples fed as the run did).
+  /// Replay as the recording's own run did (`vigs run --record`: /vigs/pose/imu_used): track
+  /// only the frames it tracked (a live tracker skips to the newest frame and releases frames
+  /// before the IMU's first sample), each with the IMU samples up to the newest one it had
+  /// used (an IMU the tracker found late). Gives that run's trajectory bit for bit.
   bool as_run = false;
 };
 

@@ -6,6 +6,7 @@
 //   /vigs/imu/serial         vigs_msgs/SerialChunk: the port's raw bytes, exactly as read
 //   /vigs/camera/trigger     sensor_msgs/TimeReference per GPIO frame-sync edge
 //   /vigs/pose               geometry_msgs/PoseStamped per tracked frame (`vigs run --record`)
+//   /vigs/pose/imu_used      sensor_msgs/TimeReference: the newest IMU sample that frame used
 // (the topics of vigs simulate and vigs replay; tests/record checks them against src/eval's).
 // Log time = the sample's own t_ns (CLOCK_MONOTONIC), so messages of a stream are in order.
 //
@@ -45,6 +46,13 @@ inline constexpr const char* kImuTopic = io::topics::kImu.name.data();
 inline constexpr const char* kSerialTopic = io::topics::kImuSerial.name.data();
 inline constexpr const char* kTriggerTopic = io::topics::kCameraTrigger.name.data();
 inline constexpr const char* kPoseTopic = io::topics::kPose.name.data();
+inline constexpr const char* kTrackerImuTopic = io::topics::kTrackerImu.name.data();
+
+/// One tracked frame's pose and the stamp of the newest IMU sample the tracker had used for it.
+struct RecordedPose {
+  PoseSample pose;
+  std::int64_t imu_t_ns = 0;
+};
 
 struct CameraIntrinsics {
   double fx_px = 0, fy_px = 0, cx_px = 0, cy_px = 0;
@@ -76,7 +84,7 @@ class Recorder {
   void add_serial(rt::SpscRing<drivers::SerialBytes>& tap, std::string port);
   void add_edges(rt::SpscRing<drivers::TriggerEdge>& tap, std::string source);
   /// The tracker's poses (T_w_c, stamped at their frame), in `frame_id` (the map frame).
-  void add_poses(rt::SpscRing<PoseSample>& tap, std::string frame_id);
+  void add_poses(rt::SpscRing<RecordedPose>& tap, std::string frame_id);
 
   /// Opens the file (throws io::IoError naming it) and starts the recorder thread.
   void start();
@@ -110,7 +118,7 @@ class Recorder {
   std::string serial_port_;
   rt::SpscRing<drivers::TriggerEdge>* edges_ = nullptr;
   std::string edge_source_;
-  rt::SpscRing<PoseSample>* poses_ = nullptr;
+  rt::SpscRing<RecordedPose>* poses_ = nullptr;
   std::string pose_frame_id_;
   std::optional<rt::PeriodicTask> task_;
   std::atomic<bool> failed_{false};
