@@ -27,7 +27,7 @@ struct ReplayArgs {
   std::int64_t frames = 0;
   int map_iterations = 0;
   double map_budget_ms = 0.0;
-  bool quiet = false, allow_truncated = false;
+  bool quiet = false, allow_truncated = false, as_run = false;
 };
 
 }  // namespace
@@ -69,6 +69,9 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_flag("--allow-truncated", a.allow_truncated,
                 "replay the intact part of a damaged (truncated, corrupt) recording instead of "
                 "refusing it; stderr and stats.json input_damage say what was used");
+  cmd->add_flag("--as-run", a.as_run,
+                "track only the frames the recording's run tracked (its /vigs/pose, written by "
+                "`vigs run --record`): gives that run's trajectory bit for bit");
   cmd->add_flag("--quiet", a.quiet, "no progress on stderr");
   cmd->callback([&exit_code] {
     try {
@@ -91,6 +94,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       opt.map_iterations_per_frame = a.map_iterations;
       opt.map_budget_ms = a.map_budget_ms;
       opt.allow_damaged = a.allow_truncated;
+      opt.as_run = a.as_run;
       const auto progress = [](const pipeline::TrackedFrame& f) {
         static long n = 0;
         if (++n % 100 == 0)

@@ -9,7 +9,9 @@
 //  - --source replay:F.mcap: that recording, played straight into the rings in real time, or
 //    with --through-drivers as the default is; --lockstep: straight into the rings, nothing
 //    drops, same result twice;
-//  - --source live (with --config ROBOT.yaml): the robot's OpenNI2 camera and serial IMU.
+//  - --source live (with --config ROBOT.yaml): the robot's OpenNI2 camera and serial IMU;
+//  - --record F.mcap (with the drivers: live, the default, --through-drivers): also record the
+//    drivers' taps and the tracker's poses (src/record), F.mcap.partial until a normal stop.
 // SIGINT / SIGTERM: the rings are drained and the RESULTS_DIR written whole (atomically), exit 0;
 // a second signal exits at once (what was already renamed into place stays complete).
 #include <signal.h>
@@ -21,6 +23,7 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "apps/commands.hpp"
 #include "apps/replay_stats.hpp"
@@ -45,7 +48,7 @@ extern "C" void on_run_stop_signal(int sig) {
 }
 
 struct RunArgs {
-  std::string source = "default", config_file, out = "results";
+  std::string source = "default", config_file, out = "results", record;
   bool lockstep = false, no_map = false, quiet = false, no_report = false;
   bool through_drivers = false;
   std::int64_t frames = 0;
@@ -114,6 +117,7 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   s["frames_out_of_order"] = r.tracker.out_of_order;
   s["frames_waiting_imu"] = r.tracker.waiting_imu;
   s["imu_refused"] = r.tracker.imu_refused;
+  s["frames_imu_late"] = r.tracker.imu_late;
   s["keyframes_dropped"] = r.tracker.keyframe_drops;
   s["source_frame_drops"] = r.source.frame_drops;
   s["source_imu_drops"] = r.source.imu_drops;
@@ -122,6 +126,21 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   s["status_published"] = r.status_published;
   s["memory_lock"] = r.memory_lock;
   s["stopped_by_signal"] = r.stopped_by_signal;
+  if (r.record) {
+    const pipeline::LiveRecordResult& rec = *r.record;
+    s["record"] = io::Json{{"file", rec.file},
+                           {"frames", rec.written.frames},
+                           {"imu_samples", rec.written.imu_samples},
+                           {"serial_bytes", rec.written.serial_bytes},
+                           {"poses", rec.written.poses},
+                           {"bytes", rec.written.bytes_written},
+                           {"chunks", rec.written.chunks},
+                           {"frame_tap_drops", rec.frame_tap_drops},
+                           {"imu_tap_drops", rec.imu_tap_drops},
+                           {"serial_tap_drops", rec.serial_tap_drops},
+                           {"pose_tap_drops", rec.pose_tap_drops},
+                           {"tap_drops", rec.tap_drops()}};
+  }
   if (r.camera_driver) s["camera_driver"] = drivers::to_json_value(*r.camera_driver);
   if (r.imu_driver) s["imu_driver"] = r.imu_driver->to_json_value();
   if (mode.find("drivers") != std::string::npos) {
@@ -170,6 +189,31 @@ int run_command(const RunArgs& a) {
       throw std::runtime_error("--through-drivers plays in real time, not --lockstep");
     o.through_drivers = true;
   }
+  if (!a.record.empty()) {
+    if (a.lockstep)
+      throw std::runtime_error(
+          "--record records the drivers in real time; --lockstep plays a recording without "
+          "them (record with --through-drivers or --source live)");
+    if (!o.recording.empty() && !o.through_drivers)
+      throw std::runtime_error(
+          "--record records the drivers: add --through-drivers to play the recording through "
+          "them");
+    o.record_path = a.record;
+    // No output overwrites an input: not the recording, its clip or the config ...
+    std::vector<std::string> inputs{o.recording, a.config_file};
+    if (!o.recording.empty())
+      inputs.push_back(pipeline::DriverReplay::cached_clip_path(o.recording));
+    io::refuse_output_over_inputs(a.record, inputs);
+    io::refuse_output_over_inputs(a.record + ".partial", inputs);
+    // ... and it does not go inside the RESULTS_DIR, which is replaced whole.
+    try {
+      io::refuse_output_dir_over_inputs(
+          a.out, {std::filesystem::absolute(a.record).parent_path().string()});
+    } catch (const std::exception&) {
+      throw std::runtime_error("--record " + a.record + " is inside --out " + a.out +
+                               ", which is replaced whole at the end");
+    }
+  }
   if (o.through_drivers) mode += "+drivers";
   if (a.lockstep) mode += "+lockstep";
   io::refuse_output_dir_over_inputs(a.out, {o.recording, a.config_file});
@@ -188,9 +232,14 @@ int run_command(const RunArgs& a) {
   const bool tty = !quiet && ::isatty(STDERR_FILENO) == 1;
   const auto progress = [tty](const pipeline::LiveProgress& p) {
     if (!tty) return;
+    if (p.recording)
+      std::fprintf(stderr, "\rrec %.1f MB  rec drops %llu  ", p.record_mb,
+                   static_cast<unsigned long long>(p.record_drops));
+    else
+      std::fputc('\r', stderr);
     const double rtf = p.elapsed_s > 0 ? p.stream_s / p.elapsed_s : 0;
     std::fprintf(stderr,
-                 "\rframes %5llu  rtf %.2f  tracker p50 %.1f / p99 %.1f ms  drops %llu  "
+                 "frames %5llu  rtf %.2f  tracker p50 %.1f / p99 %.1f ms  drops %llu  "
                  "gaussians %zu   ",
                  static_cast<unsigned long long>(p.frames), rtf, p.track_p50_ns * 1e-6,
                  p.track_p99_ns * 1e-6, static_cast<unsigned long long>(p.drops), p.gaussians);
@@ -209,6 +258,10 @@ int run_command(const RunArgs& a) {
                    {"track_ms_p99", io::rounded(r.track_p99_ns * 1e-6, 4)},
                    {"pose_latency_ms_p99", io::rounded(r.pose_latency_ns.p99_ns * 1e-6, 4)},
                    {"drops", r.drops}};
+  if (r.record) {
+    summary["record"] = r.record->file;
+    summary["record_tap_drops"] = r.record->tap_drops();
+  }
   if (!o.recording.empty() && !a.no_report) {
     eval::ReportOptions ro;
     ro.results_dir = a.out;
@@ -256,6 +309,10 @@ void add_run_command(CLI::App& app, ExitCode& exit_code) {
                 "replay: play the recording through the real drivers in real time (an .oni "
                 "clip through OpenNI2, the IMU as Xsens bytes on a pseudo-terminal), as the "
                 "default source always is");
+  cmd->add_option("--record", a.record,
+                  "also record the drivers (frames, IMU samples, raw serial bytes) and the "
+                  "tracker's poses into this MCAP (FILE.partial until a normal stop; needs the "
+                  "drivers: live, the default source, --through-drivers)");
   cmd->add_flag("--no-map", a.no_map, "no mapper task");
   cmd->add_option("--frames", a.frames, "recording: only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);

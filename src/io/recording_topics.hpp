@@ -51,8 +51,21 @@ inline constexpr RecordedTopic kCameraTrigger{
     "time_ref = the frame-sync edge's kernel stamp (CLOCK_MONOTONIC), source = chip:line",
     "camera"};
 
-inline constexpr std::array<RecordedTopic, 7> kAll{kCameraInfo, kRgb,       kDepth,        kImu,
-                                                   kBodyPose,   kImuSerial, kCameraTrigger};
+/// Written by `vigs run --record`: the pose the tracker published for each frame it tracked.
+inline constexpr RecordedTopic kPose{
+    "/vigs/pose", "geometry_msgs/msg/PoseStamped",
+    "T_w_c: the tracker's camera pose, position m, unit quaternion; stamp = the frame's",
+    "map (dds.map_frame_id)"};
+
+/// Written by `vigs run --record`: for each tracked frame (header stamp), the stamp of the newest
+/// IMU sample the tracker had used (time_ref), so `vigs replay --as-run` feeds the same samples.
+inline constexpr RecordedTopic kTrackerImu{"/vigs/pose/imu_used", "sensor_msgs/msg/TimeReference",
+                                           "time_ref = newest IMU sample (t_ns) in the odometry "
+                                           "when the frame at header stamp was tracked",
+                                           "camera"};
+
+inline constexpr std::array<RecordedTopic, 9> kAll{
+    kCameraInfo, kRgb, kDepth, kImu, kBodyPose, kImuSerial, kCameraTrigger, kPose, kTrackerImu};
 
 }  // namespace topics
 
@@ -68,5 +81,8 @@ static_assert(topics::kImuSerial.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::SerialChunk>::kRos2Name);
 static_assert(topics::kCameraTrigger.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::TimeReference>::kRos2Name);
+static_assert(topics::kTrackerImu.ros2_type ==
+              ros_msgs::MessageTraits<ros_msgs::TimeReference>::kRos2Name);
+static_assert(topics::kPose.ros2_type == ros_msgs::MessageTraits<ros_msgs::PoseStamped>::kRos2Name);
 
 }  // namespace vigs::io

@@ -5,6 +5,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -24,6 +25,34 @@ namespace {
 constexpr std::size_t kKeyframeSlots = 2;
 constexpr std::size_t kPoseRing = 256;
 constexpr std::size_t kResultRing = 1024;
+
+// --record: the recorder's own taps (pool slots are added for the frame tap, so a slow disk
+// never takes a slot the driver or the tracker needs).
+constexpr std::uint32_t kFrameTap = 16;
+struct RecordTaps {
+  rt::SpscRing<rt::FrameHandle> frames{kFrameTap};
+  rt::SpscRing<ImuSample> imu{4096};
+  rt::SpscRing<drivers::SerialBytes> bytes{1024};
+  rt::SpscRing<record::RecordedPose> poses{kPoseRing};  // the main thread fills it (results)
+  std::uint64_t pose_drops = 0;
+};
+
+record::RecordedPose recorded_pose(const LiveFrameResult& r, std::uint64_t index) {
+  const TrackedFrame& f = r.frame;
+  record::RecordedPose rp;
+  rp.imu_t_ns = r.imu_t_ns;
+  PoseSample& p = rp.pose;
+  p.t_ns = f.t_ns;
+  p.frame_index = index;
+  const Eigen::Vector3d t = f.T_w_c.translation();
+  const Eigen::Quaterniond q(f.T_w_c.rotation());
+  for (int i = 0; i < 3; ++i) p.p_w_m[i] = t[i];
+  p.q_w_xyzw[0] = q.x();
+  p.q_w_xyzw[1] = q.y();
+  p.q_w_xyzw[2] = q.z();
+  p.q_w_xyzw[3] = q.w();
+  return rp;
+}
 
 rt::ThreadSpec table_spec(const char* name, const config::RtSettings& rt) {
   return rt::apply_policy(rt::thread_spec(name), rt.realtime_priorities, rt.pin_cpus);
@@ -63,7 +92,12 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   PinholeCamera camera = o.recording.empty() ? PinholeCamera::from_settings(cfg.camera)
                                              : RecordingSource::first_camera(o.recording);
   const auto slots = static_cast<std::uint32_t>(rtc.frame_pool_slots);
-  const rt::FramePoolSettings pool_settings{.slots = slots,
+  const bool record = !o.record_path.empty();
+  if (record && !o.recording.empty() && !o.through_drivers)
+    throw std::runtime_error(
+        "--record records the drivers: it needs --source live or a recording played through "
+        "the drivers (--through-drivers, the default source), not one played into the rings");
+  const rt::FramePoolSettings pool_settings{.slots = slots + (record ? kFrameTap : 0),
                                             .width = static_cast<std::uint32_t>(camera.width_px),
                                             .height = static_cast<std::uint32_t>(camera.height_px),
                                             .colour_channels = 3};
@@ -78,6 +112,13 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   rt::SpscRing<PoseSample> poses(kPoseRing);
   rt::SpscRing<LiveFrameResult> results(kResultRing);
   std::optional<KeyframeHandoff> handoff;
+  std::unique_ptr<RecordTaps> taps;
+  std::unique_ptr<record::Recorder> recorder;
+  const std::string record_partial = o.record_path + ".partial";
+  if (record) {
+    taps = std::make_unique<RecordTaps>();
+    recorder = std::make_unique<record::Recorder>(record_partial);
+  }
   // The drivers' pool holds OpenNI2's millimetres (an .oni clip's too).
   const float depth_scale_m =
       o.through_drivers ? 0.001f : static_cast<float>(cfg.camera.depth_scale_m);
@@ -127,6 +168,15 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     }
     camera_driver = std::make_unique<drivers::Openni2Driver>(cam, pool, frames);
     imu_driver = std::make_unique<drivers::SerialImuDriver>(ims, imu);
+    if (recorder) {  // each driver also feeds the recorder's tap (full: drop newest, count)
+      camera_driver->set_tap(&taps->frames);
+      imu_driver->set_taps(&taps->imu, &taps->bytes);
+      recorder->add_frames(pool, taps->frames,
+                           {camera.fx_px, camera.fy_px, camera.cx_px, camera.cy_px});
+      recorder->add_imu(taps->imu);
+      recorder->add_serial(taps->bytes, ims.port);
+      recorder->add_poses(taps->poses, cfg.dds.map_frame_id);
+    }
   }
   if (o.mapping) handoff.emplace(kKeyframeSlots, camera.width_px * camera.height_px);
 
@@ -180,6 +230,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   publisher.start();
   if (mapper_task) mapper_task->start();
   tracker_task.start();
+  if (recorder) recorder->start();  // the file exists before any driver runs
   if (recording) recording->start();
   if (imu_driver) imu_driver->start();
   if (camera_driver) camera_driver->start();
@@ -209,6 +260,17 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     }
     return c;
   };
+  const auto record_counters = [&] {
+    LiveRecordResult c;
+    c.file = o.record_path;
+    c.written = recorder->stats();
+    c.frame_tap_drops = camera_driver->counters().tap_dropped;
+    const drivers::SerialImuFaults f = imu_driver->faults();
+    c.imu_tap_drops = f.tap_sample_drops;
+    c.serial_tap_drops = f.tap_byte_drops;
+    c.pose_tap_drops = taps->pose_drops;
+    return c;
+  };
   const auto drain = [&] {
     LiveFrameResult r;
     while (results.try_pop(r)) {
@@ -216,6 +278,8 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
         ended = true;
         continue;
       }
+      if (taps && !taps->poses.try_push(recorded_pose(r, out.replay.frames.size())))
+        ++taps->pose_drops;
       out.replay.frames.push_back(r.frame);
       out.pose_flags.push_back(r.flags);
       track_ms.push_back(static_cast<float>(rt::ns_to_ms(r.track_ns)));
@@ -248,6 +312,12 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       const RecordingSourceCounters sc = source_counters();
       p.drops = total_drops(status_sources) + sc.frame_drops + sc.imu_drops;
       if (mapper) p.gaussians = mapper->gaussians();
+      if (recorder) {
+        const LiveRecordResult rc = record_counters();
+        p.recording = true;
+        p.record_mb = static_cast<double>(rc.written.bytes_written) * 1e-6;
+        p.record_drops = rc.tap_drops();
+      }
       progress(p);
       next_progress = now + rt::ms_to_ns(500);
     }
@@ -271,6 +341,11 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     mapper_task->stop();
   }
   publisher.stop();  // one last drain
+  if (recorder) {    // every tap drained, the summary written; then the name is the final one
+    recorder->stop();
+    out.record = record_counters();
+    std::filesystem::rename(record_partial, o.record_path);
+  }
   if (publisher.enabled()) (void)publisher.wait_for_acknowledgments(std::chrono::seconds(2));
   if (tracker.failed()) throw std::runtime_error(tracker.failure_message());
   if (recording && !recording->error().empty()) throw std::runtime_error(recording->error());

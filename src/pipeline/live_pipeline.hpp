@@ -13,7 +13,10 @@
 //   dds_pub                  dds::PosePublisher draining the pose ring; status at 1 Hz
 //   the calling thread       collects results, fills the status mailbox, progress, stop
 //   sensor_replay            through_drivers: DriverReplay's feeder (the IMU bytes on the pty)
-// gpio_trigger and recorder belong to `vigs record` (and are not started here).
+//   recorder                 with record_path: record::Recorder draining its own tap ring from
+//                            each driver (frames, IMU samples, the serial port's raw bytes) and
+//                            the poses the main thread collects, into a crash-safe MCAP
+// gpio_trigger belongs to `vigs record` (and is not started here).
 // Rings: frames (FramePool handles; capacity the largest power of two <= rt.frame_pool_slots
 // - 4, so a slot is always left for the driver, the tracker and the mapper's keyframes), IMU
 // (rt.imu_ring_capacity), poses (256), results (1024), keyframes (KeyframeHandoff, 2 slots).
@@ -36,6 +39,7 @@
 #include "pipeline/live_tracker.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/recording_source.hpp"
+#include "record/recorder.hpp"
 
 namespace vigs::pipeline {
 
@@ -52,6 +56,22 @@ struct LiveOptions {
   const std::atomic<int>* stop = nullptr;  ///< non-zero: stop (a signal handler's flag)
   /// Before the sources start, wait (up to 30 s, else throw) for this many pose subscribers.
   int wait_for_subscribers = 0;
+  /// Non-empty: record while running (`vigs run --record`). Needs the drivers (live, or a
+  /// recording through_drivers). Written as PATH.partial (crash-safe, chunked: a kill leaves a
+  /// readable prefix there) and renamed onto PATH once the recorder has closed it.
+  std::string record_path;
+};
+
+/// `vigs run --record`: what the recorder wrote and what its taps dropped (full tap: the
+/// newest item is dropped and counted; no driver or the tracker ever waits for the recorder).
+struct LiveRecordResult {
+  std::string file;
+  record::RecorderStats written;
+  std::uint64_t frame_tap_drops = 0, imu_tap_drops = 0, serial_tap_drops = 0;
+  std::uint64_t pose_tap_drops = 0;
+  [[nodiscard]] std::uint64_t tap_drops() const noexcept {
+    return frame_tap_drops + imu_tap_drops + serial_tap_drops + pose_tap_drops;
+  }
 };
 
 struct LiveProgress {
@@ -62,6 +82,9 @@ struct LiveProgress {
   std::uint64_t drops = 0;  ///< every ring and pool drop
   std::size_t gaussians = 0;
   double total_stream_s = 0;  ///< recording length (0 live)
+  bool recording = false;     ///< --record: the two below are the recorder's
+  double record_mb = 0;
+  std::uint64_t record_drops = 0;
 };
 
 struct LatencyQuantiles {
@@ -95,6 +118,7 @@ struct LiveResult {
   double real_time_factor = 0;  ///< stream_s / wall time from the first frame
   std::string memory_lock;      ///< "applied", "refused", "not requested"
   bool stopped_by_signal = false;
+  std::optional<LiveRecordResult> record;  ///< with record_path
 };
 
 /// Runs the pipeline until the stream ends or *options.stop. `progress` (optional) is called

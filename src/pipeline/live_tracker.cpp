@@ -13,6 +13,9 @@ constexpr std::size_t kEarlyImuSamples = 4096;  // IMU samples kept before the f
 constexpr std::size_t kInitSamples = 20;        // without samples before it: the next 20
 // A frame whose newest IMU sample is older than this has no IMU of its own (the stream stopped).
 constexpr std::int64_t kImuStaleNs = 100'000'000;
+// How long a frame waits at most for the IMU to deliver a sample after its stamp: one camera
+// period at 20 Hz (the IMU thread, late under load, usually needs well under 1 ms).
+constexpr std::int64_t kImuCoverNs = 50'000'000;
 
 PoseSample pose_sample(const TrackedFrame& f, std::uint64_t index, std::uint32_t flags,
                        const Odometry& odometry) {
@@ -122,6 +125,31 @@ void LiveTracker::feed_imu(std::int64_t t_ns) noexcept {
   }
 }
 
+void LiveTracker::await_imu(std::int64_t t_ns) noexcept {
+  const std::int64_t give_up = rt::monotonic_ns() + kImuCoverNs;
+  for (;;) {
+    if (odometry_) {
+      feed_imu(t_ns);
+    } else {  // kept for the Odometry's start (start_odometry)
+      while (const ImuSample* s = r_.imu.front()) {
+        if (s->t_ns > t_ns || early_imu_.size() == early_imu_.capacity()) break;
+        early_imu_.push_back(*s);
+        r_.imu.pop();
+      }
+    }
+    const ImuSample* next = r_.imu.front();
+    if (next != nullptr && next->t_ns > t_ns) return;  // the IMU has passed the frame
+    const std::int64_t newest =
+        odometry_ ? last_imu_t_ns_ : (early_imu_.empty() ? INT64_MIN : early_imu_.back().t_ns);
+    if (next != nullptr || newest < t_ns - kImuStaleNs) return;  // full, or stopped: flagged
+    if (rt::monotonic_ns() > give_up) {
+      imu_late_.add();
+      return;
+    }
+    rt::sleep_until_ns(rt::monotonic_ns() + 100'000);
+  }
+}
+
 bool LiveTracker::start_odometry(std::int64_t t_ns) {
   // Gather samples up to the frame; with none there, wait (lockstep) for the first 20 after it.
   while (const ImuSample* s = r_.imu.front()) {
@@ -163,6 +191,7 @@ void LiveTracker::process(rt::FrameHandle h, std::int64_t wake_ns) noexcept {
     return;
   }
   try {
+    if (!s_.lockstep) await_imu(t_ns);
     if (!odometry_ && !start_odometry(t_ns)) {
       r_.pool.release(h);
       if (!failed()) waiting_imu_.add();
@@ -192,9 +221,8 @@ void LiveTracker::process(rt::FrameHandle h, std::int64_t wake_ns) noexcept {
   const PoseSample pose = pose_sample(f, frame_index_, flags, *odometry_);
   if (!wait([&] { return r_.poses.try_push(pose); }, "the publisher (pose ring)"))
     pose_drops_.add();
-  LiveFrameResult result{
-      f,          t1 - t0, rt::monotonic_ns(), frame.arrival_ns, s_.lockstep ? 0 : wake_ns,
-      pose.flags, false};
+  LiveFrameResult result{f,          t1 - t0, rt::monotonic_ns(), frame.arrival_ns,
+                         s_.lockstep ? 0 : wake_ns, pose.flags, false, last_imu_t_ns_};
   if (!wait([&] { return r_.results.try_push(result); }, "the main thread (result ring)"))
     result_drops_.add();
   if (f.keyframe && r_.keyframes != nullptr) {
@@ -237,6 +265,7 @@ LiveTrackerCounters LiveTracker::counters() const noexcept {
   c.imu_samples = imu_samples_.get();
   c.imu_refused = imu_refused_.get();
   c.imu_unavailable = imu_unavailable_.get();
+  c.imu_late = imu_late_.get();
   c.pose_drops = pose_drops_.get();
   c.result_drops = result_drops_.get();
   c.keyframes = keyframes_.get();

@@ -7,7 +7,11 @@
 //  1. takes the newest frame handle from the driver's ring; older queued frames are released
 //     and counted (skipped; the next pose is flagged kPoseFlagFramesSkipped). In lockstep it
 //     takes every queued frame in order instead, and nothing is skipped;
-//  2. moves the IMU samples with t <= the frame's stamp from the IMU ring into the Odometry;
+//  2. moves the IMU samples with t <= the frame's stamp from the IMU ring into the Odometry,
+//     first waiting (up to 50 ms; not in lockstep, nor while the IMU is stale) until the IMU
+//     has delivered a sample after the stamp: the frame is then tracked with every sample up
+//     to it whichever driver delivered first, as `vigs replay --as-run` of a `vigs run
+//     --record` file does (a timeout is counted: imu_late);
 //  3. tracks (Odometry::track on the FramePool slot's RgbdView, no copy);
 //  4. pushes the PoseSample into the publisher's ring and the frame's result into the
 //     trajectory ring (both: full -> drop newest and count; lockstep: wait for room), and a
@@ -47,12 +51,13 @@ namespace vigs::pipeline {
 /// One tracked frame as the main thread collects it.
 struct LiveFrameResult {
   TrackedFrame frame;
-  std::int64_t track_ns = 0;      ///< inside Odometry::track
-  std::int64_t done_mono_ns = 0;  ///< CLOCK_MONOTONIC when the pose was pushed
-  std::int64_t arrival_ns = 0;    ///< CLOCK_MONOTONIC when the driver queued the frame
-  std::int64_t wake_ns = 0;       ///< the tracker tick that took it woke (real time; 0 lockstep)
-  std::uint32_t flags = 0;        ///< the published pose's PoseFlags
-  bool end_of_stream = false;     ///< the last element: nothing follows
+  std::int64_t track_ns = 0;          ///< inside Odometry::track
+  std::int64_t done_mono_ns = 0;      ///< CLOCK_MONOTONIC when the pose was pushed
+  std::int64_t arrival_ns = 0;        ///< CLOCK_MONOTONIC when the driver queued the frame
+  std::int64_t wake_ns = 0;           ///< the tracker tick that took it woke (0 in lockstep)
+  std::uint32_t flags = 0;            ///< the published pose's PoseFlags
+  bool end_of_stream = false;         ///< the last element: nothing follows
+  std::int64_t imu_t_ns = INT64_MIN;  ///< newest IMU sample in the Odometry when tracked
 };
 
 struct LiveTrackerSettings {
@@ -83,6 +88,7 @@ struct LiveTrackerCounters {
   std::uint64_t imu_samples = 0;  ///< moved into the Odometry
   std::uint64_t imu_refused = 0;  ///< older than the previous sample
   std::uint64_t imu_unavailable = 0;
+  std::uint64_t imu_late = 0;  ///< tracked before the IMU passed the frame (50 ms wait ran out)
   std::uint64_t pose_drops = 0;
   std::uint64_t result_drops = 0;
   std::uint64_t keyframes = 0;
@@ -115,6 +121,7 @@ class LiveTracker {
   void process(rt::FrameHandle h, std::int64_t wake_ns) noexcept;
   bool start_odometry(std::int64_t t_ns);
   void feed_imu(std::int64_t t_ns) noexcept;
+  void await_imu(std::int64_t t_ns) noexcept;
   void finish() noexcept;
   template <class Pred>
   bool wait(Pred&& ready, const char* what) noexcept;
@@ -136,7 +143,7 @@ class LiveTracker {
   std::atomic<bool> failed_{false};
   char failure_[160] = {};
   rt::SingleWriterCounter frames_, skipped_, waiting_imu_, out_of_order_, imu_samples_,
-      imu_refused_, imu_unavailable_, pose_drops_, result_drops_, keyframes_;
+      imu_refused_, imu_unavailable_, imu_late_, pose_drops_, result_drops_, keyframes_;
 };
 
 }  // namespace vigs::pipeline

@@ -1,12 +1,16 @@
 #include "pipeline/lockstep_replay.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <span>
 
 #include "inertial/gravity_alignment.hpp"
 #include "io/io_error.hpp"
+#include "io/mcap/mcap_reader.hpp"
 #include "io/recording/recorded_frames.hpp"
+#include "io/ros_msgs/time_reference.hpp"
+#include "io/ros_msgs/typed_io.hpp"
 #include "pipeline/lockstep_mapping.hpp"
 
 namespace vigs::pipeline {
@@ -14,6 +18,29 @@ namespace {
 
 /// Thrown from the frame callback to stop reading after max_frames.
 struct StopReading {};
+
+/// A frame `vigs run --record` tracked, and the newest IMU sample it used (/vigs/pose/imu_used).
+struct RunFrame {
+  std::int64_t t_ns = 0, imu_t_ns = 0;
+};
+
+std::vector<RunFrame> read_run_frames(const std::string& path) {
+  std::vector<RunFrame> run;
+  io::mcap::McapReader reader(path);
+  io::mcap::MessageView m;
+  while (reader.next(m)) {
+    io::ros_msgs::TimeReference ref;
+    if (m.channel->topic != io::topics::kTrackerImu.name || !io::ros_msgs::decode_message(m, ref))
+      continue;
+    run.push_back({ref.header.stamp.to_ns(), ref.time_ref.to_ns()});
+  }
+  if (run.empty())
+    throw RecordingError(path + ": no messages on " + std::string(io::topics::kTrackerImu.name) +
+                         " to replay as the run did (written by vigs run --record)");
+  std::sort(run.begin(), run.end(),
+            [](const RunFrame& a, const RunFrame& b) { return a.t_ns < b.t_ns; });
+  return run;
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -90,14 +117,35 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   std::optional<LockstepMapper> mapper;
   ImuFeeder feeder(motion.imu);
   std::int64_t last_t_ns = 0;
+  // as_run: the frames the recording's run tracked and the newest IMU sample each one used.
+  const std::vector<RunFrame> run =
+      options.as_run ? read_run_frames(path) : std::vector<RunFrame>{};
   const auto on_recorded = [&](const io::RecordedFrame& rec) {
     const std::int64_t t_ns = rec.view.t_ns;
+    std::int64_t imu_until_ns = t_ns;  // the samples up to here go in before the frame
+    if (options.as_run) {
+      const auto it =
+          std::lower_bound(run.begin(), run.end(), t_ns,
+                           [](const RunFrame& f, std::int64_t t) { return f.t_ns < t; });
+      if (it == run.end() || it->t_ns != t_ns) {
+        ++result.frames_not_tracked_by_run;
+        return;
+      }
+      imu_until_ns = std::min(t_ns, it->imu_t_ns);
+    }
     if (!odometry) {
       OdometryOptions opt;
       opt.guess = options.guess;
       opt.fusion = options.fusion;
-      opt.initial_T_w_c =
-          initial_camera_pose(motion, t_ns, cfg, result.initial_pose, options.initial_pose);
+      if (imu_until_ns < t_ns) {  // as_run: the run started with the samples it had then
+        RecordedMotion had = motion;
+        std::erase_if(had.imu, [&](const ImuSample& s) { return s.t_ns > imu_until_ns; });
+        opt.initial_T_w_c =
+            initial_camera_pose(had, t_ns, cfg, result.initial_pose, options.initial_pose);
+      } else {
+        opt.initial_T_w_c =
+            initial_camera_pose(motion, t_ns, cfg, result.initial_pose, options.initial_pose);
+      }
       odometry.emplace(cfg, rec.camera, opt);
       // Without samples the frontend would integrate zero specific force: free fall.
       if (odometry->guess_mode() == tracking::InitialGuessMode::imu && motion.imu.empty()) {
@@ -128,7 +176,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
       }
     }
     last_t_ns = t_ns;
-    feeder.feed_until(t_ns, *odometry);
+    feeder.feed_until(imu_until_ns, *odometry);
     // A frame without depth is tracked with no measurement anywhere (and so is lost).
     if (!rec.view.has_depth()) ++result.frames_without_depth;
     if (mapper) mapper->keep_frame(rec.view);

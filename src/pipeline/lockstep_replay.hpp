@@ -69,6 +69,11 @@ struct ReplayOptions {
   /// Replay the intact part of a damaged recording (ReplayResult::damage says what was found)
   /// instead of refusing it.
   bool allow_damaged = false;
+  /// Replay as the recording's own run did (`vigs run --record`: /vigs/pose/imu_used): track
+  /// only the frames it tracked (a live tracker skips to the newest frame and releases frames
+  /// before the IMU's first sample), each with the IMU samples up to the newest one it had
+  /// used (an IMU the tracker found late). Gives that run's trajectory bit for bit.
+  bool as_run = false;
 };
 
 struct ReplayResult {
@@ -77,9 +82,10 @@ struct ReplayResult {
   tracking::InitialGuessMode guess = tracking::InitialGuessMode::imu;
   InitialPoseSource initial_pose = InitialPoseSource::identity;
   PinholeCamera camera;
-  std::size_t imu_samples = 0;            ///< in the recording
-  std::size_t imu_samples_fed = 0;        ///< fed before the last replayed frame
-  std::int64_t frames_without_depth = 0;  ///< tracked with an all-invalid depth image
+  std::size_t imu_samples = 0;                 ///< in the recording
+  std::size_t imu_samples_fed = 0;             ///< fed before the last replayed frame
+  std::int64_t frames_without_depth = 0;       ///< tracked with an all-invalid depth image
+  std::int64_t frames_not_tracked_by_run = 0;  ///< as_run: recorded frames the run did not track
   /// Keyframes not given to the mapper because their frame was no longer kept (none expected).
   std::int64_t keyframes_without_view = 0;
   io::mcap::DamageReport damage;  ///< with allow_damaged: what the readers found

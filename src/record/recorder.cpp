@@ -1,11 +1,13 @@
 #include "record/recorder.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "io/io_error.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
+#include "io/ros_msgs/pose_stamped.hpp"
 #include "io/ros_msgs/serial_chunk.hpp"
 #include "io/ros_msgs/time_reference.hpp"
 #include "io/ros_msgs/typed_io.hpp"
@@ -17,12 +19,15 @@ namespace msgs = io::ros_msgs;
 
 // Channel ids and the messages reused between writes (their vectors keep their capacity).
 struct Recorder::Channels {
-  std::uint16_t rgb = 0, depth = 0, info = 0, imu = 0, serial = 0, trigger = 0;
+  std::uint16_t rgb = 0, depth = 0, info = 0, imu = 0, serial = 0, trigger = 0, pose = 0,
+                imu_used = 0;
   msgs::Image rgb_msg, depth_msg;
   msgs::CameraInfo info_msg;
   msgs::Imu imu_msg;
   msgs::SerialChunk chunk_msg;
   msgs::TimeReference edge_msg;
+  msgs::PoseStamped pose_msg;
+  msgs::TimeReference imu_used_msg;
   std::vector<std::uint8_t> scratch;
 };
 
@@ -52,6 +57,11 @@ void Recorder::add_serial(rt::SpscRing<drivers::SerialBytes>& tap, std::string p
 void Recorder::add_edges(rt::SpscRing<drivers::TriggerEdge>& tap, std::string source) {
   edges_ = &tap;
   edge_source_ = std::move(source);
+}
+
+void Recorder::add_poses(rt::SpscRing<RecordedPose>& tap, std::string frame_id) {
+  poses_ = &tap;
+  pose_frame_id_ = std::move(frame_id);
 }
 
 void Recorder::start() {
@@ -114,6 +124,12 @@ void Recorder::open() {
     c.trigger = msgs::add_channel<msgs::TimeReference>(*writer_, kTriggerTopic);
     c.edge_msg.header.frame_id = "camera";
     c.edge_msg.source = edge_source_;
+  }
+  if (poses_ != nullptr) {
+    c.pose = msgs::add_channel<msgs::PoseStamped>(*writer_, kPoseTopic);
+    c.pose_msg.header.frame_id = pose_frame_id_;
+    c.imu_used = msgs::add_channel<msgs::TimeReference>(*writer_, kTrackerImuTopic);
+    c.imu_used_msg.source = "imu";
   }
   writer_->flush();  // the channel records reach the file before the first message
 }
@@ -183,6 +199,23 @@ void Recorder::drain_once() {
                           c.scratch);
       edges_n_.fetch_add(1, std::memory_order_relaxed);
     }
+    RecordedPose rp;
+    while (poses_ != nullptr && poses_->try_pop(rp)) {
+      const PoseSample& p = rp.pose;
+      c.pose_msg.header.stamp = msgs::Time::from_ns(p.t_ns);
+      c.pose_msg.header.seq = static_cast<std::uint32_t>(p.frame_index);
+      c.pose_msg.pose.position = {p.p_w_m[0], p.p_w_m[1], p.p_w_m[2]};
+      c.pose_msg.pose.orientation = {p.q_w_xyzw[0], p.q_w_xyzw[1], p.q_w_xyzw[2], p.q_w_xyzw[3]};
+      msgs::write_message(*writer_, c.pose, static_cast<std::uint64_t>(p.t_ns), c.pose_msg,
+                          c.scratch);
+      c.imu_used_msg.header.stamp = c.pose_msg.header.stamp;
+      c.imu_used_msg.header.seq = c.pose_msg.header.seq;
+      c.imu_used_msg.header.frame_id = "camera";
+      c.imu_used_msg.time_ref = msgs::Time::from_ns(std::max<std::int64_t>(rp.imu_t_ns, 0));
+      msgs::write_message(*writer_, c.imu_used, static_cast<std::uint64_t>(p.t_ns), c.imu_used_msg,
+                          c.scratch);
+      poses_n_.fetch_add(1, std::memory_order_relaxed);
+    }
     bytes_written_.store(writer_->stats().bytes_written, std::memory_order_relaxed);
     mcap_chunks_.store(writer_->stats().chunk_count, std::memory_order_relaxed);
   } catch (const std::exception& ex) {
@@ -222,6 +255,7 @@ RecorderStats Recorder::stats() const noexcept {
           .serial_chunks = chunks_n_.load(std::memory_order_relaxed),
           .serial_bytes = serial_bytes_n_.load(std::memory_order_relaxed),
           .edges = edges_n_.load(std::memory_order_relaxed),
+          .poses = poses_n_.load(std::memory_order_relaxed),
           .bytes_written = bytes_written_.load(std::memory_order_relaxed),
           .chunks = mcap_chunks_.load(std::memory_order_relaxed)};
 }

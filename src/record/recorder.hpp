@@ -5,6 +5,8 @@
 //   /vigs/imu                sensor_msgs/Imu per stamped sample
 //   /vigs/imu/serial         vigs_msgs/SerialChunk: the port's raw bytes, exactly as read
 //   /vigs/camera/trigger     sensor_msgs/TimeReference per GPIO frame-sync edge
+//   /vigs/pose               geometry_msgs/PoseStamped per tracked frame (`vigs run --record`)
+//   /vigs/pose/imu_used      sensor_msgs/TimeReference: the newest IMU sample that frame used
 // (the topics of vigs simulate and vigs replay; tests/record checks them against src/eval's).
 // Log time = the sample's own t_ns (CLOCK_MONOTONIC), so messages of a stream are in order.
 //
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "core/types/imu_sample.hpp"
+#include "core/types/pose_sample.hpp"
 #include "drivers/common/trigger_edge.hpp"
 #include "drivers/serial_imu/serial_bytes.hpp"
 #include "io/mcap/mcap_writer.hpp"
@@ -42,6 +45,14 @@ inline constexpr const char* kCameraInfoTopic = io::topics::kCameraInfo.name.dat
 inline constexpr const char* kImuTopic = io::topics::kImu.name.data();
 inline constexpr const char* kSerialTopic = io::topics::kImuSerial.name.data();
 inline constexpr const char* kTriggerTopic = io::topics::kCameraTrigger.name.data();
+inline constexpr const char* kPoseTopic = io::topics::kPose.name.data();
+inline constexpr const char* kTrackerImuTopic = io::topics::kTrackerImu.name.data();
+
+/// One tracked frame's pose and the stamp of the newest IMU sample the tracker had used for it.
+struct RecordedPose {
+  PoseSample pose;
+  std::int64_t imu_t_ns = 0;
+};
 
 struct CameraIntrinsics {
   double fx_px = 0, fy_px = 0, cx_px = 0, cy_px = 0;
@@ -53,6 +64,7 @@ struct RecorderStats {
   std::uint64_t serial_chunks = 0;
   std::uint64_t serial_bytes = 0;
   std::uint64_t edges = 0;
+  std::uint64_t poses = 0;
   std::uint64_t bytes_written = 0;  // file size so far
   std::uint64_t chunks = 0;
 };
@@ -71,6 +83,8 @@ class Recorder {
   void add_imu(rt::SpscRing<ImuSample>& tap);
   void add_serial(rt::SpscRing<drivers::SerialBytes>& tap, std::string port);
   void add_edges(rt::SpscRing<drivers::TriggerEdge>& tap, std::string source);
+  /// The tracker's poses (T_w_c, stamped at their frame), in `frame_id` (the map frame).
+  void add_poses(rt::SpscRing<RecordedPose>& tap, std::string frame_id);
 
   /// Opens the file (throws io::IoError naming it) and starts the recorder thread.
   void start();
@@ -104,12 +118,14 @@ class Recorder {
   std::string serial_port_;
   rt::SpscRing<drivers::TriggerEdge>* edges_ = nullptr;
   std::string edge_source_;
+  rt::SpscRing<RecordedPose>* poses_ = nullptr;
+  std::string pose_frame_id_;
   std::optional<rt::PeriodicTask> task_;
   std::atomic<bool> failed_{false};
   mutable std::mutex error_mutex_;  // error_ only; never taken by a driver
   std::string error_;
   std::atomic<std::uint64_t> frames_n_{0}, imu_n_{0}, chunks_n_{0}, serial_bytes_n_{0}, edges_n_{0},
-      bytes_written_{0}, mcap_chunks_{0};
+      poses_n_{0}, bytes_written_{0}, mcap_chunks_{0};
 };
 
 }  // namespace vigs::record

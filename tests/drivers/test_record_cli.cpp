@@ -2,11 +2,12 @@
 // EuRoC IMU played as Xsens bytes on a pseudo-terminal (`vigs imu play`) read by the real serial
 // driver. The file is then opened by VIGS's reader (`vigs mcap info --decode`) and by the
 // official TypeScript MCAP readers (tests/conformance/summarize_mcap.mjs); a recording killed
-// with SIGKILL stays readable up to its last chunk.
+// with SIGKILL stays readable up to its last chunk, and `vigs replay --allow-truncated` replays it.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <string>
@@ -180,6 +181,19 @@ TEST(RecordCli, SigkillLeavesAFileReadableToItsLastChunk) {
       << info;
   EXPECT_GE(std::stoi(m[1]), 200) << info;
   EXPECT_NE(info.find("\"decode_errors\": 0"), std::string::npos) << info;
+
+  // `vigs replay` refuses the prefix naming the damage; with --allow-truncated it replays it
+  // and says what it found.
+  const std::string results = temp_path("killed_results");
+  const std::string replay = std::string(VIGS_BIN) + " replay " + out + " --quiet --out " + results;
+  const auto [refused, refused_status] = run_output(replay);
+  EXPECT_EQ(refused_status, 1) << refused;
+  EXPECT_NE(refused.find("--allow-truncated"), std::string::npos) << refused;
+  const auto [allowed, allowed_status] = run_output(replay + " --allow-truncated");
+  EXPECT_EQ(allowed_status, 0) << allowed;
+  EXPECT_NE(allowed.find("damaged recording (truncated"), std::string::npos) << allowed;
+  EXPECT_EQ(::access((results + "/trajectory.tum").c_str(), R_OK), 0) << allowed;
+  std::filesystem::remove_all(results);
 }
 
 TEST(Recorder, WritesEdgesSerialBytesAndImuAsTheirMessages) {
