@@ -23,8 +23,7 @@ TEST(PhaseLock, ErrorIsWrappedIntoHalfAPeriod) {
   EXPECT_EQ(pl.error_ns(1'000'000'000 + kLead + 10'000'000, 1'000'000'000), 10'000'000);
   // A frame that arrived just after the previous tick: lag close to a period reads as a tick
   // a little early (wrapped), not a period late.
-  EXPECT_EQ(pl.error_ns(1'000'000'000 + kPeriod - 1'000'000, 1'000'000'000),
-            -kLead - 1'000'000);
+  EXPECT_EQ(pl.error_ns(1'000'000'000 + kPeriod - 1'000'000, 1'000'000'000), -kLead - 1'000'000);
   EXPECT_LT(pl.shift_ns(1'000'000'000 + 20'000'000, 1'000'000'000), 0);  // tick earlier
   EXPECT_GT(pl.shift_ns(1'000'000'000 + 49'000'000, 1'000'000'000), 0);  // tick later
   // Several periods of lag (frames skipped) still give the phase.
@@ -41,7 +40,7 @@ struct SimRun {
 };
 
 SimRun simulate(const PhaseLock& pl, std::int64_t phase_ns, std::int64_t jitter_ns, int ticks,
-             int measure, bool lock_on = true) {
+                int measure, bool lock_on = true) {
   std::int64_t deadline = 0;
   std::int64_t last_taken = -1;
   SimRun r;
@@ -82,8 +81,8 @@ SimRun simulate(const PhaseLock& pl, std::int64_t phase_ns, std::int64_t jitter_
 }
 
 TEST(PhaseLock, TicksSettleJustAfterTheArrivalFromAnyPhase) {
-  for (std::int64_t phase : {1'000'000, 13'000'000, 24'000'000, 26'000'000, 40'000'000,
-                             49'000'000}) {
+  for (std::int64_t phase :
+       {1'000'000, 13'000'000, 24'000'000, 26'000'000, 40'000'000, 49'000'000}) {
     const SimRun off = simulate(lock(), phase, 0, 200, 100, false);
     const SimRun on = simulate(lock(), phase, 0, 200, 100);
     SCOPED_TRACE(phase);
