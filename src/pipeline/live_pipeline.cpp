@@ -38,19 +38,9 @@ struct RecordTaps {
 };
 
 record::RecordedPose recorded_pose(const LiveFrameResult& r, std::uint64_t index) {
-  const TrackedFrame& f = r.frame;
   record::RecordedPose rp;
   rp.imu_t_ns = r.imu_t_ns;
-  PoseSample& p = rp.pose;
-  p.t_ns = f.t_ns;
-  p.frame_index = index;
-  const Eigen::Vector3d t = f.T_w_c.translation();
-  const Eigen::Quaterniond q(f.T_w_c.rotation());
-  for (int i = 0; i < 3; ++i) p.p_w_m[i] = t[i];
-  p.q_w_xyzw[0] = q.x();
-  p.q_w_xyzw[1] = q.y();
-  p.q_w_xyzw[2] = q.z();
-  p.q_w_xyzw[3] = q.w();
+  rp.pose = tracked_pose(r.frame, index);
   return rp;
 }
 

@@ -23,16 +23,7 @@ constexpr std::int64_t kImuCoverNs = 10'000'000;
 
 PoseSample pose_sample(const TrackedFrame& f, std::uint64_t index, std::uint32_t flags,
                        const Odometry& odometry) {
-  PoseSample p;
-  p.t_ns = f.t_ns;
-  p.frame_index = index;
-  const Eigen::Vector3d t = f.T_w_c.translation();
-  const Eigen::Quaterniond q(f.T_w_c.rotation());
-  for (int i = 0; i < 3; ++i) p.p_w_m[i] = t[i];
-  p.q_w_xyzw[0] = q.x();
-  p.q_w_xyzw[1] = q.y();
-  p.q_w_xyzw[2] = q.z();
-  p.q_w_xyzw[3] = q.w();
+  PoseSample p = tracked_pose(f, index);
   if (f.covariance_valid) std::memcpy(p.covariance, f.covariance, sizeof(p.covariance));
   if (odometry.guess_mode() == tracking::InitialGuessMode::imu) {
     const Eigen::Vector3d& v = odometry.inertial().velocity_w_mps();
@@ -47,6 +38,20 @@ PoseSample pose_sample(const TrackedFrame& f, std::uint64_t index, std::uint32_t
 }
 
 }  // namespace
+
+PoseSample tracked_pose(const TrackedFrame& f, std::uint64_t index) {
+  PoseSample p;
+  p.t_ns = f.t_ns;
+  p.frame_index = index;
+  const Eigen::Vector3d t = f.T_w_c.translation();
+  const Eigen::Quaterniond q(f.T_w_c.rotation());
+  for (int i = 0; i < 3; ++i) p.p_w_m[i] = t[i];
+  p.q_w_xyzw[0] = q.x();
+  p.q_w_xyzw[1] = q.y();
+  p.q_w_xyzw[2] = q.z();
+  p.q_w_xyzw[3] = q.w();
+  return p;
+}
 
 LiveTracker::LiveTracker(const config::RobotConfig& cfg, const LiveTrackerSettings& settings,
                          const LiveTrackerRings& rings)

@@ -60,6 +60,10 @@ struct LiveFrameResult {
   std::int64_t imu_t_ns = INT64_MIN;  ///< newest IMU sample in the Odometry when tracked
 };
 
+/// A tracked frame's stamp, index and T_w_c (position and quaternion) as a PoseSample; no
+/// covariance, velocity or flags (the tracker adds those to what it publishes).
+PoseSample tracked_pose(const TrackedFrame& f, std::uint64_t index);
+
 struct LiveTrackerSettings {
   bool lockstep = false;
   std::int64_t wait_timeout_ns = 30'000'000'000;  ///< lockstep: bound on any wait
