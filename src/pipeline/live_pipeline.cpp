@@ -16,6 +16,7 @@
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "pipeline/live_mapper.hpp"
 #include "pipeline/live_status.hpp"
+#include "pipeline/replay_figures.hpp"
 #include "rt/clock.hpp"
 #include "rt/periodic_task.hpp"
 
@@ -49,15 +50,11 @@ rt::ThreadSpec table_spec(const char* name, const config::RtSettings& rt) {
 }
 
 /// p50 and p99 (nearest rank) of ns; zeros when empty.
-LatencyQuantiles quantiles(std::vector<std::int64_t> ns) {
+LatencyQuantiles quantiles(const std::vector<std::int64_t>& ns) {
   LatencyQuantiles q;
   if (ns.empty()) return q;
-  std::sort(ns.begin(), ns.end());
-  const auto at = [&ns](double f) {
-    return ns[static_cast<std::size_t>(f * static_cast<double>(ns.size() - 1) + 0.5)];
-  };
-  q.p50_ns = at(0.5);
-  q.p99_ns = at(0.99);
+  q.p50_ns = *nearest_rank_quantile(ns, 0.5);
+  q.p99_ns = *nearest_rank_quantile(ns, 0.99);
   q.count = ns.size();
   return q;
 }
@@ -382,14 +379,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   out.tracker_missed = tracker_task.missed_deadlines();
   out.cycle_p50_ns = tracker_task.cycle_time().p50();
   out.cycle_p99_ns = tracker_task.cycle_time().p99();
-  if (!track_ms.empty()) {
-    std::vector<float> ms = track_ms;
-    std::sort(ms.begin(), ms.end());
-    const auto at = [&ms](double q) {
-      return std::llround(1e6 * ms[static_cast<std::size_t>(q * (ms.size() - 1) + 0.5)]);
-    };
-    out.track_p50_ns = at(0.5);
-    out.track_p99_ns = at(0.99);
+  if (const std::optional<double> p50 = track_ms_quantile(r, 0.5)) {
+    out.track_p50_ns = std::llround(1e6 * *p50);
+    out.track_p99_ns = std::llround(1e6 * *track_ms_quantile(r, 0.99));
   }
   out.drops = total_drops(status_sources) + out.source.frame_drops + out.source.imu_drops;
   out.pose_latency_ns = quantiles(latency_ns);

@@ -134,17 +134,21 @@ void LiveTracker::feed_imu(std::int64_t t_ns) noexcept {
   }
 }
 
+void LiveTracker::gather_early_imu(std::int64_t t_ns) noexcept {
+  while (const ImuSample* s = r_.imu.front()) {
+    if (s->t_ns > t_ns || early_imu_.size() == early_imu_.capacity()) break;
+    early_imu_.push_back(*s);  // reserved: never allocates
+    r_.imu.pop();
+  }
+}
+
 void LiveTracker::await_imu(std::int64_t t_ns) noexcept {
   const std::int64_t give_up = rt::monotonic_ns() + kImuCoverNs;
   for (;;) {
     if (odometry_) {
       feed_imu(t_ns);
-    } else {  // kept for the Odometry's start (start_odometry)
-      while (const ImuSample* s = r_.imu.front()) {
-        if (s->t_ns > t_ns || early_imu_.size() == early_imu_.capacity()) break;
-        early_imu_.push_back(*s);
-        r_.imu.pop();
-      }
+    } else {
+      gather_early_imu(t_ns);
     }
     const ImuSample* next = r_.imu.front();
     if (next != nullptr && next->t_ns > t_ns) return;  // the IMU has passed the frame
@@ -161,11 +165,7 @@ void LiveTracker::await_imu(std::int64_t t_ns) noexcept {
 
 bool LiveTracker::start_odometry(std::int64_t t_ns) {
   // Gather samples up to the frame; with none there, wait (lockstep) for the first 20 after it.
-  while (const ImuSample* s = r_.imu.front()) {
-    if (s->t_ns > t_ns || early_imu_.size() == early_imu_.capacity()) break;
-    early_imu_.push_back(*s);
-    r_.imu.pop();
-  }
+  gather_early_imu(t_ns);
   const bool imu_mode = s_.odometry.guess
                             ? *s_.odometry.guess == tracking::InitialGuessMode::imu
                             : cfg_.tracking.initial_guess == tracking::InitialGuessMode::imu;

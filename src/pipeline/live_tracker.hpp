@@ -8,7 +8,7 @@
 //     and counted (skipped; the next pose is flagged kPoseFlagFramesSkipped). In lockstep it
 //     takes every queued frame in order instead, and nothing is skipped;
 //  2. moves the IMU samples with t <= the frame's stamp from the IMU ring into the Odometry,
-//     first waiting (up to 50 ms; not in lockstep, nor while the IMU is stale) until the IMU
+//     first waiting (up to 10 ms; not in lockstep, nor while the IMU is stale) until the IMU
 //     has delivered a sample after the stamp: the frame is then tracked with every sample up
 //     to it whichever driver delivered first, as `vigs replay --as-run` of a `vigs run
 //     --record` file does (a timeout is counted: imu_late);
@@ -92,7 +92,7 @@ struct LiveTrackerCounters {
   std::uint64_t imu_samples = 0;  ///< moved into the Odometry
   std::uint64_t imu_refused = 0;  ///< older than the previous sample
   std::uint64_t imu_unavailable = 0;
-  std::uint64_t imu_late = 0;  ///< tracked before the IMU passed the frame (50 ms wait ran out)
+  std::uint64_t imu_late = 0;  ///< tracked before the IMU passed the frame (10 ms wait ran out)
   std::uint64_t pose_drops = 0;
   std::uint64_t result_drops = 0;
   std::uint64_t keyframes = 0;
@@ -125,6 +125,8 @@ class LiveTracker {
   void process(rt::FrameHandle h, std::int64_t wake_ns) noexcept;
   bool start_odometry(std::int64_t t_ns);
   void feed_imu(std::int64_t t_ns) noexcept;
+  /// Before the Odometry exists: moves the samples up to t_ns into early_imu_ (for its start).
+  void gather_early_imu(std::int64_t t_ns) noexcept;
   void await_imu(std::int64_t t_ns) noexcept;
   void finish() noexcept;
   template <class Pred>

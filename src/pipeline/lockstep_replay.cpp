@@ -137,15 +137,15 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
       OdometryOptions opt;
       opt.guess = options.guess;
       opt.fusion = options.fusion;
-      if (imu_until_ns < t_ns) {  // as_run: the run started with the samples it had then
-        RecordedMotion had = motion;
+      // as_run: the run started with the samples it had then.
+      RecordedMotion had;
+      const bool cut = imu_until_ns < t_ns;
+      if (cut) {
+        had = motion;
         std::erase_if(had.imu, [&](const ImuSample& s) { return s.t_ns > imu_until_ns; });
-        opt.initial_T_w_c =
-            initial_camera_pose(had, t_ns, cfg, result.initial_pose, options.initial_pose);
-      } else {
-        opt.initial_T_w_c =
-            initial_camera_pose(motion, t_ns, cfg, result.initial_pose, options.initial_pose);
       }
+      opt.initial_T_w_c = initial_camera_pose(cut ? had : motion, t_ns, cfg, result.initial_pose,
+                                              options.initial_pose);
       odometry.emplace(cfg, rec.camera, opt);
       // Without samples the frontend would integrate zero specific force: free fall.
       if (odometry->guess_mode() == tracking::InitialGuessMode::imu && motion.imu.empty()) {

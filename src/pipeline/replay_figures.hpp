@@ -10,14 +10,20 @@
 
 namespace vigs::pipeline {
 
-/// The q-quantile (0..1) of the per-frame tracking time in ms, nearest rank rounded to the
-/// closest index; none without frames.
+/// The q-quantile (0..1) of `values`, nearest rank rounded to the closest index: the rule of
+/// every per-frame figure reported (tracking time, pose latency); none when empty.
+template <class T>
+std::optional<T> nearest_rank_quantile(std::vector<T> values, double q) {
+  if (values.empty()) return std::nullopt;
+  const auto k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5);
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+/// The q-quantile of the per-frame tracking time in ms; none without frames.
 inline std::optional<double> track_ms_quantile(const ReplayResult& r, double q) {
-  if (r.track_ms.empty()) return std::nullopt;
-  std::vector<float> ms = r.track_ms;
-  const auto k = static_cast<std::size_t>(q * static_cast<double>(ms.size() - 1) + 0.5);
-  std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(k), ms.end());
-  return static_cast<double>(ms[k]);
+  const std::optional<float> ms = nearest_rank_quantile(r.track_ms, q);
+  return ms ? std::optional<double>(*ms) : std::nullopt;
 }
 
 /// GICP iterations per frame over every frame after the first (the first only starts the

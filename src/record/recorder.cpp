@@ -130,6 +130,7 @@ void Recorder::open() {
     c.pose_msg.header.frame_id = pose_frame_id_;
     c.imu_used = msgs::add_channel<msgs::TimeReference>(*writer_, kTrackerImuTopic);
     c.imu_used_msg.source = "imu";
+    c.imu_used_msg.header.frame_id = "camera";
   }
   writer_->flush();  // the channel records reach the file before the first message
 }
@@ -210,7 +211,6 @@ void Recorder::drain_once() {
                           c.scratch);
       c.imu_used_msg.header.stamp = c.pose_msg.header.stamp;
       c.imu_used_msg.header.seq = c.pose_msg.header.seq;
-      c.imu_used_msg.header.frame_id = "camera";
       c.imu_used_msg.time_ref = msgs::Time::from_ns(std::max<std::int64_t>(rp.imu_t_ns, 0));
       msgs::write_message(*writer_, c.imu_used, static_cast<std::uint64_t>(p.t_ns), c.imu_used_msg,
                           c.scratch);

@@ -24,10 +24,6 @@ class SpeedProfile {
   void hold(double seconds);
   /// Ramps the rate from the current one to `rate` over `seconds` (> 0).
   void ramp(double rate, double seconds);
-  /// Path length (in u) a ramp from `r0` to `r1` over `seconds` covers.
-  [[nodiscard]] static double ramp_length(double r0, double r1, double seconds) {
-    return 0.5 * (r0 + r1) * seconds;
-  }
 
   [[nodiscard]] WarpPoint at(double t_s) const;
   [[nodiscard]] double duration_s() const { return t_end_; }
