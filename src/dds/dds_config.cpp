@@ -127,6 +127,7 @@ DdsConfig resolve_dds_config(const config::DdsSettings& s, const std::string& co
   c.interface_ip = s.interface_ip;
   c.loopback_only = s.interface_ip.rfind("127.", 0) == 0;
   c.shared_memory = s.shared_memory;
+  c.shm_peer_check_ms = s.shm_peer_check_ms;
 
   std::stringstream peers(s.initial_peers);
   for (std::string item; std::getline(peers, item, ',');) {

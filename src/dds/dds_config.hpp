@@ -27,6 +27,9 @@ struct DdsConfig {
   std::string interface_ip = "127.0.0.1";  ///< the only interface UDP may use
   bool loopback_only = true;               ///< interface_ip is a 127.x address
   bool shared_memory = true;
+  /// Fast DDS's shared-memory healthy-check timeout: a writer that (re)opens the port of a reader
+  /// whose process is stopped waits this long in write() before declaring it dead.
+  int shm_peer_check_ms = 50;
   /// Unicast discovery peers. Loopback: 127.0.0.1 unless configured. Otherwise empty means
   /// multicast discovery (Fast DDS's default).
   std::vector<std::string> initial_peers;

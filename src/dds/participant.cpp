@@ -41,8 +41,14 @@ fdds::DomainParticipantQos make_participant_qos(const DdsConfig& c, const std::s
   udp->interfaceWhiteList.push_back(c.interface_ip);
   q.transport().user_transports.push_back(udp);
   if (c.shared_memory) {
-    q.transport().user_transports.push_back(
-        std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>());
+    // A writer that opens (or, after its watchdog found it silent, reopens) a reader's port
+    // runs a healthy check inside write(): with a stopped or hung reader process it waits the
+    // whole timeout, 1 s by default -- the pose publisher thread stalls that long per port, and
+    // the pose ring overflows at high rates (tests/dds/test_dds_never_blocks.cpp). A short
+    // check bounds what a hung peer can cost every other subscriber.
+    auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
+    shm->healthy_check_timeout_ms(static_cast<std::uint32_t>(c.shm_peer_check_ms));
+    q.transport().user_transports.push_back(shm);
   }
   auto& builtin = q.wire_protocol().builtin;
   for (const std::string& peer : c.initial_peers) {

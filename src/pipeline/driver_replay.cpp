@@ -141,6 +141,13 @@ void DriverReplay::stop() {
   thread_.reset();
 }
 
+void DriverReplay::finish(std::int64_t within_ns) {
+  const std::int64_t give_up = rt::monotonic_ns() + within_ns;
+  while (thread_ && !done() && !failed() && rt::monotonic_ns() < give_up)
+    rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(1));
+  stop();
+}
+
 std::optional<std::int64_t> DriverReplay::host_minus_recording_ns() const noexcept {
   const std::int64_t v = host_minus_recording_ns_.load(std::memory_order_acquire);
   return v == INT64_MIN ? std::nullopt : std::optional<std::int64_t>(v);
@@ -222,6 +229,7 @@ void DriverReplay::run(const std::stop_token& stop, const drivers::Openni2Driver
                   std::strerror(errno));
     written_.add();
   }
+  done_.store(true, std::memory_order_release);
 }
 
 }  // namespace vigs::pipeline

@@ -95,6 +95,11 @@ class DriverReplay {
   /// the camera's clip for the camera fault). `camera` must outlive stop().
   void start(const drivers::Openni2Driver& camera);
   void stop();
+  /// The camera's clip has ended: lets the feeder write the IMU's last samples (the ones past
+  /// the last frame's arrival) for at most `within_ns`, then stops it.
+  void finish(std::int64_t within_ns);
+  /// The feeder wrote (or withheld) every IMU sample.
+  [[nodiscard]] bool done() const noexcept { return done_.load(std::memory_order_acquire); }
 
   /// Host CLOCK_MONOTONIC minus recording time, once the camera has anchored.
   [[nodiscard]] std::optional<std::int64_t> host_minus_recording_ns() const noexcept;
@@ -120,6 +125,7 @@ class DriverReplay {
   drivers::PseudoTerminal pty_;
   std::atomic<std::int64_t> host_minus_recording_ns_{INT64_MIN};
   std::atomic<bool> failed_{false};
+  std::atomic<bool> done_{false};
   std::string error_;  // written by the feeder before failed_
   rt::SingleWriterCounter written_, withheld_, corrupted_, late_, returns_;
   std::optional<rt::RtThread> thread_;

@@ -313,8 +313,18 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
 
   // 7. Drain and join: sources first (the feeder before the IMU driver that reads its pty),
   // then the tracker (its last results), mapper, publisher.
-  if (replay) replay->stop();
+  // At the clip's end the feeder still owes the IMU samples past the last frame, and the IMU
+  // driver the bytes still in the pty: both are let finish (bounded) before they stop.
+  if (replay) replay->finish(ended ? rt::ms_to_ns(250) : 0);
   if (camera_driver) camera_driver->stop();
+  if (imu_driver && replay && ended) {
+    const std::uint64_t sent = replay->counters().imu_samples_written;
+    const std::int64_t give_up = rt::monotonic_ns() + rt::ms_to_ns(100);
+    for (drivers::SerialImuFaults f = imu_driver->faults();
+         f.samples_out + f.bad_checksum < sent && rt::monotonic_ns() < give_up;
+         f = imu_driver->faults())
+      rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(1));
+  }
   if (imu_driver) imu_driver->stop();
   if (recording) recording->stop();
   tracker_task.stop();

@@ -12,6 +12,7 @@ struct DdsSettings {
   int domain_id = 0;
   std::string interface_ip = "127.0.0.1";  ///< UDP interface whitelist
   bool shared_memory = true;
+  int shm_peer_check_ms = 50;  ///< longest a write may wait on a silent shared-memory reader
   std::string topic_prefix = "rt/vigs";
   std::string qos_profiles = "../dds/qos_profiles.xml";
   std::string initial_peers;  ///< empty: 127.0.0.1 on loopback, multicast discovery otherwise
@@ -28,6 +29,11 @@ struct DdsSettings {
     v.field("interface_ip", interface_ip, {},
             "IPv4 address of the only interface UDP may use (127.0.0.1 = loopback only)");
     v.field("shared_memory", shared_memory, "also enable the shared-memory transport");
+    v.field("shm_peer_check_ms", shm_peer_check_ms,
+            {"ms", 5, 1000,
+             "shared memory: how long a write waits for a silent reader's port to answer before "
+             "it is declared dead (Fast DDS's healthy-check timeout; a hung peer stalls the "
+             "publisher this long per port)"});
     v.field("topic_prefix", topic_prefix, {}, "ROS 2 style topic prefix");
     v.field("qos_profiles", qos_profiles, {}, "Fast DDS QoS XML, relative to this config file");
     v.field("initial_peers", initial_peers, {},
