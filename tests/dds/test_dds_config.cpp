@@ -3,6 +3,7 @@
 // Domains 153-155.
 #include <gtest/gtest.h>
 
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <filesystem>
@@ -63,6 +64,24 @@ TEST_F(DdsConfigTest, DomainIdOutOfRangeNamesTheKey) {
   expect_error(s, "", {"dds.domain_id", "233", "232"});
   s.domain_id = -1;
   expect_error(s, "", {"dds.domain_id"});
+}
+
+// dds.shm_peer_check_ms reaches the shared-memory transport as its healthy-check timeout (the
+// bound on how long a write waits on a stopped reader; test_dds_never_blocks.cpp).
+TEST_F(DdsConfigTest, ShmPeerCheckReachesTheSharedMemoryTransport) {
+  config::DdsSettings s;
+  s.shm_peer_check_ms = 37;
+  const DdsConfig c = resolve_dds_config(s, "");
+  const auto q = make_participant_qos(c, "shm_check");
+  int found = 0;
+  for (const auto& t : q.transport().user_transports) {
+    const auto* shm =
+        dynamic_cast<const eprosima::fastdds::rtps::SharedMemTransportDescriptor*>(t.get());
+    if (shm == nullptr) continue;
+    ++found;
+    EXPECT_EQ(shm->healthy_check_timeout_ms(), 37u);
+  }
+  EXPECT_EQ(found, 1);
 }
 
 TEST_F(DdsConfigTest, InterfaceThisMachineDoesNotHaveNamesTheKey) {
