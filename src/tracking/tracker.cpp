@@ -40,6 +40,12 @@ Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geom
   if (moving_test_on()) {
     history_ = FrameHistory(camera, 2 * setting.moving_window_frames + 1,
                             std::max(1, setting.preprocess.depth.pixel_stride));
+    held_.resize(static_cast<std::size_t>(setting.moving_window_frames) + 1);
+    held_frame_.assign(held_.size(), 0);
+    for (Keyframe& k : held_) {
+      k.cloud_c.reserve(n);
+      k.moving.reserve(n);
+    }
   }
 }
 
@@ -93,19 +99,39 @@ const GaussianCloud& Tracker::gicp_source() {
 }
 
 void Tracker::hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
+  Keyframe& k = held_[(held_head_ + held_count_) % held_.size()];
+  held_frame_[(held_head_ + held_count_) % held_.size()] = frames_;
+  ++held_count_;
+  k.t_ns = t_ns;
+  k.T_w_c = T_w_c;
+  k.cloud_c.points_m = cloud_.points_m;  // assignment reuses capacity
+  k.cloud_c.cov_raw_m2 = cloud_.cov_raw_m2;
+  k.cloud_c.cov_m2 = cloud_.cov_m2;
+  k.cloud_c.colors_rgb = cloud_.colors_rgb;
+  T_w_newest_kf_ = T_w_c;
+}
+
+void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
   keyframe_.t_ns = t_ns;
   keyframe_.T_w_c = T_w_c;
   keyframe_.cloud_c.points_m = cloud_.points_m;  // assignment reuses capacity
   keyframe_.cloud_c.cov_raw_m2 = cloud_.cov_raw_m2;
   keyframe_.cloud_c.cov_m2 = cloud_.cov_m2;
   keyframe_.cloud_c.colors_rgb = cloud_.colors_rgb;
-  keyframe_pending_ = frames_;
+  keyframe_.moving.assign(cloud_.size(), 0);
+  map_.insert(cloud_, T_w_c, &keyframe_.moving);
+  T_w_newest_kf_ = T_w_c;
 }
 
-void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
-  map_.insert(cloud_, T_w_c, &keyframe_.moving);
-  hold_keyframe(t_ns, T_w_c);
-  keyframe_pending_ = -1;
+int Tracker::release_held_keyframe() {
+  // Swapping the slot with keyframe_ exchanges buffers of the same reserved capacity.
+  std::swap(keyframe_, held_[held_head_]);
+  held_head_ = (held_head_ + 1) % held_.size();
+  --held_count_;
+  const int moving = history_.flag(keyframe_.cloud_c, keyframe_.T_w_c, keyframe_.t_ns,
+                                   static_cast<float>(setting_.moving_margin_m), keyframe_.moving);
+  map_.insert(keyframe_.cloud_c, keyframe_.T_w_c, &keyframe_.moving);
+  return moving;
 }
 
 TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c_imu) {
@@ -118,7 +144,6 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
     out.status = TrackingStatus::initialized;
     out.pose_from_gicp = false;
     out.keyframe = true;
-    keyframe_.moving.assign(cloud_.size(), 0);
     make_keyframe(t_ns, out.T_w_c);
   } else {
     out.T_w_c_guess = guess(t_ns, T_w_c_imu, out.guess_fell_back);
@@ -144,25 +169,25 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
       // The prior's terms are already in GICP units: divide the whole posterior by the scale.
       out.information = out.gicp.information_posterior / setting_.gicp_variance_scale;
     }
+    // While keyframes are held the map lacks them, so the overlap with it says nothing new:
+    // only the motion since the newest keyframe counts then.
+    const double overlap = held_count_ > 0 ? 1.0 : out.gicp.overlap_ratio;
     const bool new_keyframe =
-        out.pose_from_gicp && keyframe_pending_ < 0 &&
-        policy_.is_keyframe(out.gicp.overlap_ratio, keyframe_.T_w_c, out.T_w_c);
+        out.pose_from_gicp && policy_.is_keyframe(overlap, T_w_newest_kf_, out.T_w_c);
     if (new_keyframe && moving_test_on()) {
-      hold_keyframe(t_ns, out.T_w_c);  // inserted once the frames after it are seen
+      // Inserted once the frames after it are seen. (The ring cannot be full: a keyframe
+      // held at frame f leaves at frame f + moving_window_frames.)
+      if (held_count_ < held_.size()) hold_keyframe(t_ns, out.T_w_c);
     } else if (new_keyframe) {
-      keyframe_.moving.assign(cloud_.size(), 0);
       make_keyframe(t_ns, out.T_w_c);
       out.keyframe = true;
     }
   }
   if (moving_test_on()) {
     history_.record(frame, out.T_w_c, out.pose_from_gicp || frames_ == 0);
-    if (keyframe_pending_ >= 0 && frames_ - keyframe_pending_ >= setting_.moving_window_frames) {
-      out.moving_points =
-          history_.flag(keyframe_.cloud_c, keyframe_.T_w_c, keyframe_.t_ns,
-                        static_cast<float>(setting_.moving_margin_m), keyframe_.moving);
-      map_.insert(keyframe_.cloud_c, keyframe_.T_w_c, &keyframe_.moving);
-      keyframe_pending_ = -1;
+    // At most one completes per frame: held keyframes come from distinct frames.
+    if (held_count_ > 0 && frames_ - held_frame_[held_head_] >= setting_.moving_window_frames) {
+      out.moving_points = release_held_keyframe();
       out.keyframe = true;
     }
   }

@@ -2,7 +2,9 @@
 // The tracking front end for one RGB-D stream: each frame is turned into Gaussians, aligned
 // by GICP against the bounded local map from the configured initial guess, checked for
 // failure, and possibly made a keyframe (inserted into the local map and exposed for the
-// mapper). Poses are T_w_c (camera in world).
+// mapper). Poses are T_w_c (camera in world). With the moving test on, a keyframe waits
+// moving_window_frames frames for the frames after it before it is inserted; several can wait
+// at once, so a quick turn keeps making keyframes.
 //
 // Failure: low inlier ratio, a diverged or degenerate GICP, or a correction of the guess
 // beyond the divergence bounds. The frame's pose is then the initial guess — with
@@ -100,10 +102,13 @@ class Tracker {
 
  private:
   geometry::Pose guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu, bool& fell_back) const;
-  /// Copies the frame's cloud into keyframe_ (not yet into the map).
+  /// Copies the frame's cloud into a free slot of held_ (not yet into the map).
   void hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
-  /// hold_keyframe, then inserts it into the local map at once.
+  /// Copies the frame's cloud into keyframe_ and inserts it into the local map at once.
   void make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
+  /// The oldest held keyframe, once moving_window_frames frames after it are seen: flags its
+  /// moving points, inserts it into the local map and makes it keyframe_. Returns its flags.
+  int release_held_keyframe();
   [[nodiscard]] bool moving_test_on() const {
     return setting_.moving_margin_m > 0.0 && setting_.moving_window_frames > 0;
   }
@@ -120,12 +125,20 @@ class Tracker {
 
   GaussianCloud cloud_;
   GaussianCloud source_;  ///< points and covariances of cloud_'s GICP subset
-  Keyframe keyframe_;
+  Keyframe keyframe_;     ///< the last keyframe inserted into the map (last_keyframe())
+  /// Moving test: keyframes waiting for the frames after them, oldest first, in a ring of
+  /// moving_window_frames + 1 slots sized at construction (a keyframe at most every frame).
+  /// While they wait, tracking goes on and further keyframes are held: a quick turn does not
+  /// leave the map behind the camera.
+  std::vector<Keyframe> held_;
+  std::vector<int> held_frame_;  ///< frames_ index of each held slot
+  std::size_t held_head_ = 0;
+  std::size_t held_count_ = 0;
+  geometry::Pose T_w_newest_kf_ = geometry::Pose::Identity();  ///< held or inserted
   PinholeCamera camera_;
   PosePrior prior_;
   bool prior_pending_ = false;
-  FrameHistory history_;       ///< recent frames' depth (moving test)
-  int keyframe_pending_ = -1;  ///< frames_ index of a keyframe not yet inserted, or -1
+  FrameHistory history_;  ///< recent frames' depth (moving test)
   int frames_ = 0;
   geometry::Pose T_w_last_ = geometry::Pose::Identity();
   geometry::Pose T_w_prev_ = geometry::Pose::Identity();

@@ -154,7 +154,10 @@ TEST(WorkerTeam, IdleWorkersSleepAndAreJoinedPromptly) {
   {
     WorkerTeam team(4);
     team.run([](int) {});
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // workers now in FUTEX_WAIT
+    // The workers go to FUTEX_WAIT (no spin for SCHED_OTHER teams) as soon as they are
+    // scheduled; on a loaded machine that may take longer than a fixed sleep.
+    for (int i = 0; i < 2000 && team.worker_sleeps() < 3u; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
     EXPECT_GE(team.worker_sleeps(), 3u);
   }
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
