@@ -14,7 +14,9 @@
 #include "io/image_io.hpp"
 #include "io/json_text.hpp"
 #include "io/output_guard.hpp"
+#include "mapping/far_field.hpp"
 #include "mapping/insertion.hpp"
+#include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/ply_io.hpp"
 #include "mapping/rgbd_keyframe.hpp"
@@ -65,6 +67,9 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
       mapping::GaussianMap map;
       mapping::GaussianInserter inserter(cfg.mapping.insert);
       std::vector<LoadedFrame> frames(list.size());
+      mapping::Rasterizer<float> far_raster;
+      mapping::RenderResult<float> far_render;
+      std::size_t far = 0;
       mapping::RgbdSampling sampling;
       sampling.stride_px = stride;
       sampling.min_depth_m = cfg.camera.min_depth_m;
@@ -90,12 +95,19 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
                                    std::to_string(cfg.camera.min_depth_m) + ", " +
                                    std::to_string(cfg.camera.max_depth_m) +
                                    "] m (all 0, NaN, Inf or out of range)");
-        inserter.insert(map, mapping::keyframe_from_rgbd(k, rgb, depth, list[i].T_w_c, sampling));
         LoadedFrame& f = frames[i];
         f.rgb.resize(rgb.data.size());
         for (std::size_t j = 0; j < rgb.data.size(); ++j) f.rgb[j] = rgb.data[j] / 255.0f;
         f.depth_m = depth.data;
         f.view = {mapping::RenderCamera::from(k, list[i].T_w_c), f.rgb.data(), f.depth_m.data()};
+        // far Gaussians only where the map, as it was before this frame, renders nothing
+        const bool gated = map.size() > 0;
+        if (gated) far_raster.forward(map, f.view.camera, far_render);
+        inserter.insert(map, mapping::keyframe_from_rgbd(k, rgb, depth, list[i].T_w_c, sampling));
+        far += mapping::insert_far_field(
+            map, {f.view.camera, f.view.rgb, f.view.depth_m}, gated ? &far_render : nullptr,
+            cfg.mapping.far_field, cfg.mapping.insert.cover, cfg.mapping.insert.opacity,
+            mapping::GateSettings{}.max_alpha, 0.9 * cfg.mapping.prune.max_scale_m);
       }
       const std::size_t inserted = map.size();
       if (inserted == 0)
@@ -124,6 +136,7 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
       io::Json j;
       j["frames"] = frames.size();
       j["inserted"] = inserted;
+      j["far_field"] = far;
       j["pruned"] = pruned;
       j["gaussians"] = map.size();
       j["iterations"] = iterations;

@@ -5,8 +5,8 @@
 namespace vigs::mapping {
 
 template <class T>
-PhotometricLoss<T>::PhotometricLoss(LossSettings s, rt::WorkerTeam* pool)
-    : s_(s), ssim_(SsimOptions{}, pool) {}
+PhotometricLoss<T>::PhotometricLoss(LossSettings s, rt::WorkerTeam* pool, bool color_without_depth)
+    : s_(s), color_without_depth_(color_without_depth), ssim_(SsimOptions{}, pool) {}
 
 template <class T>
 LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* target_rgb,
@@ -19,7 +19,7 @@ LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* tar
     mask_.resize(np);
     n_mask = 0;
     for (std::size_t i = 0; i < np; ++i) {
-      mask_[i] = target_depth_m[i] > T(0) ? T(1) : T(0);
+      mask_[i] = color_without_depth_ || target_depth_m[i] > T(0) ? T(1) : T(0);
       n_mask += mask_[i] > T(0) ? 1 : 0;
     }
     mask = mask_.data();

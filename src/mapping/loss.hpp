@@ -1,6 +1,7 @@
 #pragma once
 // Training loss of the map: (1 - lambda) L1(colour) + lambda (1 - SSIM) + lambda_D L1(depth).
-// Colour terms are masked where the target depth is missing (when a target depth is given);
+// Colour terms are masked where the target depth is missing (when a target depth is given),
+// unless color_without_depth (set with the far field); the depth term always is;
 // SSIM uses the 11x11 Gaussian window (sigma 1.5) over valid windows, with its analytic
 // gradient.
 #include <vector>
@@ -24,7 +25,10 @@ struct LossTerms {
 template <class T>
 class PhotometricLoss {
  public:
-  explicit PhotometricLoss(LossSettings s = {}, rt::WorkerTeam* pool = nullptr);
+  /// color_without_depth: colour terms also where the target has no depth (MapOptimizer sets it
+  /// when the far field is on: every pixel then has Gaussians behind it to train).
+  explicit PhotometricLoss(LossSettings s = {}, rt::WorkerTeam* pool = nullptr,
+                           bool color_without_depth = false);
 
   /// target_rgb: 3 per pixel in [0, 1]; target_depth_m: 1 per pixel, 0 = missing, may be null.
   /// Writes dL/d(colour) and dL/d(depth) (sizes 3 and 1 per pixel) when they are not null.
@@ -35,6 +39,7 @@ class PhotometricLoss {
 
  private:
   LossSettings s_;
+  bool color_without_depth_;
   Ssim<T> ssim_;
   std::vector<T> mask_, ssim_grad_;
 };

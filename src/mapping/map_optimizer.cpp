@@ -21,7 +21,13 @@ std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s
 }
 
 MapOptimizer::MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* pool)
-    : s_(s), raster_(RasterSettings{}, pool), loss_(s.loss, pool), adam_(s.adam) {}
+    : s_(s),
+      raster_(
+          RasterSettings{},
+          pool),  // with the far field on every pixel has Gaussians behind it: colour is trained
+                  // everywhere (the depth term stays masked where the target has no depth)
+      loss_(s.loss, pool, s.far_field.depth_m > 0.0),
+      adam_(s.adam) {}
 
 LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& view,
                                        std::size_t* pruned) {

@@ -78,6 +78,7 @@ void Mapper::tick() {
       keep = &gate_keep_;
     }
     inserter_.insert(map_, kf->gaussians, keep);
+    insert_far_field(*kf, keep != nullptr);
     kf->gaussians = KeyframeGaussians{};  // points are in the map now; keep only the view
     if (keyframes_.size() == max_keyframes_) keyframes_.erase(keyframes_.begin());
     keyframes_.push_back(std::move(kf));
@@ -98,6 +99,15 @@ void Mapper::tick() {
     carry_ns_ = std::min<std::int64_t>(allowance_ns - spent_ns, 0);
     if (spent_ns > allowance_ns) overruns_.add(1);
   }
+}
+
+void Mapper::insert_far_field(const MapperKeyframe& kf, bool rendered) {
+  if (kf.camera.width_px <= 0 || kf.rgb.empty()) return;
+  const FarFieldView view{kf.camera, kf.rgb.data(),
+                          kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
+  far_.add(mapping::insert_far_field(map_, view, rendered ? &gate_render_ : nullptr, s_.far_field,
+                                     s_.insert.cover, s_.insert.opacity, gate_.max_alpha,
+                                     0.9 * s_.prune.max_scale_m));
 }
 
 }  // namespace vigs::mapping

@@ -10,7 +10,8 @@
 // deterministic (the iteration count follows the wall clock).
 //
 // Insertion: a keyframe's points are first gated against a render of the map from the
-// keyframe's camera (insertion_gate.hpp: only where the map is missing or wrong), then inserted.
+// keyframe's camera (insertion_gate.hpp: only where the map is missing or wrong), then inserted;
+// pixels without depth where that render is empty get far Gaussians (far_field.hpp).
 //
 // Keyframe queue policy (see rt/spsc_ring.hpp): at most `max_pending` unprocessed keyframes are
 // kept; older extra ones are skipped and counted (skipped_keyframes). A keyframe with
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "core/config/mapping_settings.hpp"
+#include "mapping/far_field.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
@@ -81,10 +83,14 @@ class Mapper {
   [[nodiscard]] std::uint64_t budget_overruns() const noexcept { return overruns_.get(); }
   /// Keyframe points not inserted because the map already rendered them (insertion_gate.hpp).
   [[nodiscard]] std::uint64_t gated_points() const noexcept { return gated_.get(); }
+  /// Far-field Gaussians inserted (far_field.hpp).
+  [[nodiscard]] std::uint64_t far_gaussians() const noexcept { return far_.get(); }
 
  private:
   std::size_t next_view();
   void iterate_once();
+  /// Far Gaussians of `kf` where it has no depth, gated by gate_render_ when `rendered`.
+  void insert_far_field(const MapperKeyframe& kf, bool rendered);
   [[nodiscard]] bool keep_iterating(int done, std::int64_t t0_ns, std::int64_t allowance_ns);
 
   config::MappingSettings s_;
@@ -109,7 +115,7 @@ class Mapper {
   RenderResult<float> gate_render_;
   std::vector<char> gate_keep_;
   std::int64_t carry_ns_ = 0;  ///< <= 0: overrun still to be taken from the next ticks
-  rt::SingleWriterCounter ingested_, skipped_, iterations_, overruns_, gated_;
+  rt::SingleWriterCounter ingested_, skipped_, iterations_, overruns_, gated_, far_;
 };
 
 }  // namespace vigs::mapping

@@ -103,21 +103,41 @@ TEST(MappingGradients, FullLossWithSsimAndDepth) {
   for (auto& v : target) v = u(rng);
   for (std::size_t i = 0; i < np; ++i) depth[i] = (i % 7 == 3) ? 0.0 : 1.0 + 2.0 * u(rng);
   Rasterizer<double> ras(smooth_settings());
-  PhotometricLoss<double> pl(LossSettings{0.2, 0.5});
-  auto loss = [&](const Params& g) {
+  // colour masked where the target has no depth, and (far field on) trained there too
+  for (const bool color_without_depth : {false, true}) {
+    PhotometricLoss<double> pl(LossSettings{0.2, 0.5}, nullptr, color_without_depth);
+    auto loss = [&](const Params& g) {
+      RenderResult<double> r;
+      ras.forward(g, cam, r);
+      return pl.evaluate(r, target.data(), depth.data(), nullptr, nullptr).total;
+    };
     RenderResult<double> r;
-    ras.forward(g, cam, r);
-    return pl.evaluate(r, target.data(), depth.data(), nullptr, nullptr).total;
-  };
-  RenderResult<double> r;
-  ras.forward(g0, cam, r);
-  std::vector<double> vc(3 * np), vd(np);
-  const auto terms = pl.evaluate(r, target.data(), depth.data(), vc.data(), vd.data());
-  EXPECT_GT(terms.ssim, -1.0);
-  EXPECT_GT(terms.l1_depth_m, 0.0);
-  Params grad;
-  ras.backward(g0, cam, r, vc.data(), vd.data(), nullptr, grad);
-  check_all(g0, loss, grad, 1e-5);
+    ras.forward(g0, cam, r);
+    std::vector<double> vc(3 * np), vd(np);
+    const auto terms = pl.evaluate(r, target.data(), depth.data(), vc.data(), vd.data());
+    EXPECT_GT(terms.ssim, -1.0);
+    EXPECT_GT(terms.l1_depth_m, 0.0);
+    double no_depth_color = 0, no_depth_depth = 0;
+    for (std::size_t i = 3; i < np; i += 7) {
+      for (int c = 0; c < 3; ++c) no_depth_color += std::abs(vc[3 * i + c]);
+      no_depth_depth += std::abs(vd[i]);
+    }
+    EXPECT_EQ(no_depth_depth, 0.0);
+    if (color_without_depth) {
+      EXPECT_GT(no_depth_color, 0.0);
+    } else {
+      // SSIM windows reach into masked pixels; the L1 term alone is zero there
+      PhotometricLoss<double> l1_only(LossSettings{0.0, 0.5});
+      l1_only.evaluate(r, target.data(), depth.data(), vc.data(), vd.data());
+      for (std::size_t i = 3; i < np; i += 7)
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(vc[3 * i + c], 0.0);
+      ras.forward(g0, cam, r);
+      pl.evaluate(r, target.data(), depth.data(), vc.data(), vd.data());
+    }
+    Params grad;
+    ras.backward(g0, cam, r, vc.data(), vd.data(), nullptr, grad);
+    check_all(g0, loss, grad, 1e-5);
+  }
 }
 
 TEST(MappingGradients, SsimGradientMatchesFiniteDifferences) {

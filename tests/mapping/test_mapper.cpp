@@ -58,7 +58,36 @@ config::MappingSettings test_settings() {
   s.iterations_per_tick = 1;
   s.window_keyframes = 2;
   s.random_keyframes = 1;
+  s.far_field.depth_m = 0.0;  // these tests count point insertion; the far field has its own
   return s;
+}
+
+TEST(MappingMapper, FillsWhatHasNoDepthWithFarGaussiansOnce) {
+  const GaussianMap truth = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
+  // switched off (mapping.far_field_depth_m 0): the keyframe's points alone
+  KeyframeRing ring_off(8);
+  Mapper off(test_settings(), ring_off, nullptr);
+  ASSERT_TRUE(ring_off.try_push(make_keyframe(truth, 1)));
+  off.tick();
+  EXPECT_EQ(off.far_gaussians(), 0u);
+  config::MappingSettings s = test_settings();
+  s.far_field.depth_m = 15.0;
+  KeyframeRing ring(8);
+  Mapper mapper(s, ring, nullptr);
+  ASSERT_TRUE(ring.try_push(make_keyframe(truth, 1)));
+  mapper.tick();
+  const std::size_t far = mapper.far_gaussians();
+  EXPECT_EQ(mapper.map().size(), off.map().size() + far);
+  const std::size_t blocks = (kW / 8) * (kH / 8);
+  // the random scene leaves much of the 64x48 view without depth: many 8x8 blocks get one
+  EXPECT_GT(far, blocks / 4);
+  EXPECT_LE(far, blocks);
+  // the same view again: its far field already renders, (almost) nothing more is added
+  ASSERT_TRUE(ring.try_push(make_keyframe(truth, 1)));
+  mapper.tick();
+  std::printf("far field in the mapper: %zu far Gaussians, then +%zu on a revisit\n", far,
+              static_cast<std::size_t>(mapper.far_gaussians() - far));
+  EXPECT_LE(mapper.far_gaussians(), far + far / 20);
 }
 
 TEST(MappingMapper, IngestsNewestFirstAndLowersTheLoss) {

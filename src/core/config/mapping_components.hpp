@@ -41,4 +41,11 @@ struct InsertSettings {
   double thin = 0.2;   ///< largest normal standard deviation per footprint width; likewise
 };
 
+/// mapping::FarFieldSettings (mapping/far_field.hpp says the rule): sparse far Gaussians where
+/// the frame has no depth and the map renders nothing yet.
+struct FarFieldSettings {
+  double depth_m = 15.0;  ///< camera depth of the far Gaussians; 0 = no far field
+  int stride_px = 8;      ///< one far Gaussian per stride x stride pixel block at most
+};
+
 }  // namespace vigs::config

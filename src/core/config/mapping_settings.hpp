@@ -5,14 +5,16 @@
 namespace vigs::config {
 
 /// Gaussian-splatting map: loss weights, Adam learning rates (GS-ICP SLAM defaults), pruning,
-/// insertion and the mapper task's schedule. The components' parts (loss, adam, prune, insert)
-/// are declared with their defaults in mapping_components.hpp; their docs are here.
+/// insertion, the far field and the mapper task's schedule. The components' parts (loss, adam,
+/// prune, insert, far_field) are declared with their defaults in mapping_components.hpp; their docs
+/// are here.
 struct MappingSettings {
   LossSettings loss;
   AdamSettings adam;
   int prune_every = 50;
   PruneSettings prune;
   InsertSettings insert;
+  FarFieldSettings far_field;
   int threads = 2;
   double rate_hz = 10.0;
   int iterations_per_tick = 1;
@@ -42,6 +44,12 @@ struct MappingSettings {
              "angle"});
     v.field("min_scale_m", insert.min_scale_m,
             {"m", 1e-6, 1.0, "floor on initial standard deviations"});
+    v.field("far_field_depth_m", far_field.depth_m,
+            {"m", 0.0, 1000.0,
+             "camera depth at which pixels without depth get far Gaussians (set it beyond "
+             "camera.max_depth_m); 0 = no far field"});
+    v.field("far_field_stride_px", far_field.stride_px,
+            {"px", 1, 256, "one far Gaussian per stride x stride pixel block without depth"});
     v.field("threads", threads, {"threads", 1, 64, "rasterizer worker threads"});
     v.field("rate_hz", rate_hz, {"Hz", 0.1, 1000.0, "mapper task rate"});
     v.field("iterations_per_tick", iterations_per_tick,
