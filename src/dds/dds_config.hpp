@@ -29,7 +29,7 @@ struct DdsConfig {
   bool shared_memory = true;
   /// Fast DDS's shared-memory healthy-check timeout: a writer that (re)opens the port of a reader
   /// whose process is stopped waits this long in write() before declaring it dead.
-  int shm_peer_check_ms = 50;
+  int shm_peer_check_ms = 1000;
   /// Unicast discovery peers. Loopback: 127.0.0.1 unless configured. Otherwise empty means
   /// multicast discovery (Fast DDS's default).
   std::vector<std::string> initial_peers;

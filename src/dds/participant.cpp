@@ -45,7 +45,9 @@ fdds::DomainParticipantQos make_participant_qos(const DdsConfig& c, const std::s
     // runs a healthy check inside write(): with a stopped or hung reader process it waits the
     // whole timeout, 1 s by default -- the pose publisher thread stalls that long per port, and
     // the pose ring overflows at high rates (tests/dds/test_dds_never_blocks.cpp). A short
-    // check bounds what a hung peer can cost every other subscriber.
+    // check bounds what a hung peer costs every other subscriber, but a reader that is alive
+    // and merely loaded is then declared dead (duplicate deliveries were seen at 50 ms), so the
+    // default stays Fast DDS's 1 s and the key is the robot's trade-off.
     auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
     shm->healthy_check_timeout_ms(static_cast<std::uint32_t>(c.shm_peer_check_ms));
     q.transport().user_transports.push_back(shm);

@@ -12,7 +12,7 @@ struct DdsSettings {
   int domain_id = 0;
   std::string interface_ip = "127.0.0.1";  ///< UDP interface whitelist
   bool shared_memory = true;
-  int shm_peer_check_ms = 50;  ///< longest a write may wait on a silent shared-memory reader
+  int shm_peer_check_ms = 1000;  ///< longest a write may wait on a silent shared-memory reader
   std::string topic_prefix = "rt/vigs";
   std::string qos_profiles = "../dds/qos_profiles.xml";
   std::string initial_peers;  ///< empty: 127.0.0.1 on loopback, multicast discovery otherwise
