@@ -17,6 +17,7 @@
 #include "pipeline/recorded_motion.hpp"
 #include "pipeline/recording_source.hpp"
 #include "rt/clock.hpp"
+#include "rt/poll.hpp"
 
 namespace vigs::pipeline {
 namespace {
@@ -142,9 +143,7 @@ void DriverReplay::stop() {
 }
 
 void DriverReplay::finish(std::int64_t within_ns) {
-  const std::int64_t give_up = rt::monotonic_ns() + within_ns;
-  while (thread_ && !done() && !failed() && rt::monotonic_ns() < give_up)
-    rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(1));
+  (void)rt::poll_until([this] { return !thread_ || done() || failed(); }, within_ns);
   stop();
 }
 

@@ -19,6 +19,7 @@
 #include "pipeline/replay_figures.hpp"
 #include "rt/clock.hpp"
 #include "rt/periodic_task.hpp"
+#include "rt/poll.hpp"
 
 namespace vigs::pipeline {
 namespace {
@@ -319,11 +320,12 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   if (camera_driver) camera_driver->stop();
   if (imu_driver && replay && ended) {
     const std::uint64_t sent = replay->counters().imu_samples_written;
-    const std::int64_t give_up = rt::monotonic_ns() + rt::ms_to_ns(100);
-    for (drivers::SerialImuFaults f = imu_driver->faults();
-         f.samples_out + f.bad_checksum < sent && rt::monotonic_ns() < give_up;
-         f = imu_driver->faults())
-      rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(1));
+    (void)rt::poll_until(
+        [&] {
+          const drivers::SerialImuFaults f = imu_driver->faults();
+          return f.samples_out + f.bad_checksum >= sent;
+        },
+        rt::ms_to_ns(100));
   }
   if (imu_driver) imu_driver->stop();
   if (recording) recording->stop();
@@ -331,10 +333,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   drain();
   if (mapper_task) {
     // Give the mapper the keyframes already queued (it stops at the end marker or now).
-    const std::int64_t give_up = rt::monotonic_ns() + rt::s_to_ns(std::int64_t{10});
-    while (!out.stopped_by_signal && !mapper->ended() && !tracker.failed() &&
-           rt::monotonic_ns() < give_up)
-      rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(5));
+    (void)rt::poll_until(
+        [&] { return out.stopped_by_signal || mapper->ended() || tracker.failed(); },
+        rt::s_to_ns(std::int64_t{10}), rt::ms_to_ns(5));
     mapper_task->stop();
   }
   publisher.stop();  // one last drain

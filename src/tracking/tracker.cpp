@@ -3,6 +3,20 @@
 #include <algorithm>
 
 namespace vigs::tracking {
+namespace {
+
+/// The frame's cloud, stamp and pose into `k` (vector assignment reuses k's capacity).
+void copy_into_keyframe(const GaussianCloud& cloud, std::int64_t t_ns, const geometry::Pose& T_w_c,
+                        Keyframe& k) {
+  k.t_ns = t_ns;
+  k.T_w_c = T_w_c;
+  k.cloud_c.points_m = cloud.points_m;
+  k.cloud_c.cov_raw_m2 = cloud.cov_raw_m2;
+  k.cloud_c.cov_m2 = cloud.cov_m2;
+  k.cloud_c.colors_rgb = cloud.colors_rgb;
+}
+
+}  // namespace
 
 std::string_view to_string(TrackingStatus status) {
   switch (status) {
@@ -102,22 +116,12 @@ void Tracker::hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
   Keyframe& k = held_[(held_head_ + held_count_) % held_.size()];
   held_frame_[(held_head_ + held_count_) % held_.size()] = frames_;
   ++held_count_;
-  k.t_ns = t_ns;
-  k.T_w_c = T_w_c;
-  k.cloud_c.points_m = cloud_.points_m;  // assignment reuses capacity
-  k.cloud_c.cov_raw_m2 = cloud_.cov_raw_m2;
-  k.cloud_c.cov_m2 = cloud_.cov_m2;
-  k.cloud_c.colors_rgb = cloud_.colors_rgb;
+  copy_into_keyframe(cloud_, t_ns, T_w_c, k);
   T_w_newest_kf_ = T_w_c;
 }
 
 void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
-  keyframe_.t_ns = t_ns;
-  keyframe_.T_w_c = T_w_c;
-  keyframe_.cloud_c.points_m = cloud_.points_m;  // assignment reuses capacity
-  keyframe_.cloud_c.cov_raw_m2 = cloud_.cov_raw_m2;
-  keyframe_.cloud_c.cov_m2 = cloud_.cov_m2;
-  keyframe_.cloud_c.colors_rgb = cloud_.colors_rgb;
+  copy_into_keyframe(cloud_, t_ns, T_w_c, keyframe_);
   keyframe_.moving.assign(cloud_.size(), 0);
   map_.insert(cloud_, T_w_c, &keyframe_.moving);
   T_w_newest_kf_ = T_w_c;
