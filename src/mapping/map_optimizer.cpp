@@ -20,12 +20,11 @@ std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s
   return keep;
 }
 
+// With the far field on, every pixel has Gaussians behind it: colour is trained everywhere (the
+// depth term stays masked where the target has no depth).
 MapOptimizer::MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* pool)
     : s_(s),
-      raster_(
-          RasterSettings{},
-          pool),  // with the far field on every pixel has Gaussians behind it: colour is trained
-                  // everywhere (the depth term stays masked where the target has no depth)
+      raster_(RasterSettings{}, pool),
       loss_(s.loss, pool, s.far_field.depth_m > 0.0),
       adam_(s.adam) {}
 
