@@ -89,11 +89,15 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
                                             .width = static_cast<std::uint32_t>(camera.width_px),
                                             .height = static_cast<std::uint32_t>(camera.height_px),
                                             .colour_channels = 3};
-  // Driver filling 1 + tracker 1 + keyframes in the mapper's hands: the rest may be queued.
-  const std::size_t reserved = 2 + (o.mapping ? kKeyframeSlots : 0);
+  // Driver filling 1 + tracker 1 + keyframes in the mapper's hands + the frames of keyframes
+  // the tracker holds for its moving test (kept for the mapper): the rest may be queued.
+  const std::size_t reserved =
+      2 +
+      (o.mapping ? kKeyframeSlots + static_cast<std::size_t>(cfg.tracking.held_keyframes()) : 0);
   if (slots < reserved + 1)
     throw std::runtime_error("rt.frame_pool_slots " + std::to_string(slots) + " is below " +
-                             std::to_string(reserved + 1) + " (driver, tracker, keyframes, ring)");
+                             std::to_string(reserved + 1) +
+                             " (driver, tracker, keyframes, held keyframes' frames, ring)");
   rt::FramePool pool(pool_settings);
   rt::SpscRing<rt::FrameHandle> frames(std::bit_floor(slots - reserved));
   rt::SpscRing<ImuSample> imu(static_cast<std::size_t>(rtc.imu_ring_capacity));

@@ -187,6 +187,7 @@ bool LiveTracker::start_odometry(std::int64_t t_ns) {
     opt.initial_T_w_c =
         initial_camera_pose(motion, t_ns, cfg_, initial_pose_, InitialPoseSource::gravity);
   odometry_.emplace(cfg_, s_.camera, opt);
+  if (r_.keyframes != nullptr) held_frames_.assign(odometry_->tracker().held_capacity(), {});
   return true;
 }
 
@@ -235,25 +236,54 @@ void LiveTracker::process(rt::FrameHandle h, std::int64_t wake_ns) noexcept {
       pose.flags, false,   last_imu_t_ns_};
   if (!wait([&] { return r_.results.try_push(result); }, "the main thread (result ring)"))
     result_drops_.add();
-  if (f.keyframe && r_.keyframes != nullptr) {
-    KeyframeSlot* slot = nullptr;
-    if (wait([&] { return (slot = r_.keyframes->acquire()) != nullptr; },
-             "the mapper (keyframe slots)")) {
-      slot->keyframe = odometry_->tracker().last_keyframe();  // reuses the slot's capacity
-      r_.pool.retain(h);
-      slot->frame = h;
-      r_.keyframes->publish(slot);
-      keyframes_.add();
-    } else {
-      r_.keyframes->count_drop();
-    }
-  }
+  if (r_.keyframes != nullptr) hand_keyframe(f, h);
   r_.pool.release(h);
   frames_.add();
   ++frame_index_;
 }
 
+void LiveTracker::hand_keyframe(const TrackedFrame& f, rt::FrameHandle h) noexcept {
+  if (f.keyframe) {
+    const tracking::Keyframe& kf = odometry_->tracker().last_keyframe();
+    // The keyframe's own frame: this one (made at once), or the oldest kept one (released
+    // moving_window_frames frames after it; the tracker releases its held keyframes in order).
+    rt::FrameHandle own = h;
+    if (kf.t_ns != f.t_ns && held_count_ > 0) {
+      own = held_frames_[held_head_];
+      held_head_ = (held_head_ + 1) % held_frames_.size();
+      --held_count_;
+    } else {
+      r_.pool.retain(h);
+    }
+    KeyframeSlot* slot = nullptr;
+    if (r_.pool.frame(own).t_ns == kf.t_ns &&
+        wait([&] { return (slot = r_.keyframes->acquire()) != nullptr; },
+             "the mapper (keyframe slots)")) {
+      slot->keyframe = kf;  // reuses the slot's capacity
+      slot->frame = own;    // the retain above, or the one taken when the keyframe was held
+      r_.keyframes->publish(slot);
+      keyframes_.add();
+    } else {  // no slot free (or, never expected, not the keyframe's frame): drop, counted
+      r_.pool.release(own);
+      r_.keyframes->count_drop();
+    }
+  }
+  if (f.held && held_count_ < held_frames_.size()) {
+    r_.pool.retain(h);
+    held_frames_[(held_head_ + held_count_) % held_frames_.size()] = h;
+    ++held_count_;
+  }
+}
+
+void LiveTracker::release_held_frames() noexcept {
+  for (; held_count_ > 0; --held_count_) {
+    r_.pool.release(held_frames_[held_head_]);
+    held_head_ = (held_head_ + 1) % held_frames_.size();
+  }
+}
+
 void LiveTracker::finish() noexcept {
+  release_held_frames();  // keyframes the stream ended before are not published
   LiveFrameResult end;
   end.end_of_stream = true;
   // End markers are never dropped: retry until there is room (bounded in every mode).

@@ -15,7 +15,10 @@
 //  3. tracks (Odometry::track on the FramePool slot's RgbdView, no copy);
 //  4. pushes the PoseSample into the publisher's ring and the frame's result into the
 //     trajectory ring (both: full -> drop newest and count; lockstep: wait for room), and a
-//     keyframe into the KeyframeHandoff (no slot free -> drop and count; lockstep: wait).
+//     keyframe into the KeyframeHandoff (no slot free -> drop and count; lockstep: wait) with
+//     the keyframe's own frame: with the moving test on the tracker holds a keyframe for
+//     moving_window_frames frames (TrackedFrame::held), so its frame stays retained in the pool
+//     (a ring of Tracker::held_capacity() handles) until the tracker releases the keyframe.
 // Start-up (allocates once): the Odometry is made at the first frame that has IMU samples at or
 // before its stamp (or, without any, the first 20 samples after it), with the gravity-aligned
 // start of pipeline/lockstep_replay.hpp; earlier frames are released and counted (waiting_imu).
@@ -129,6 +132,10 @@ class LiveTracker {
   void gather_early_imu(std::int64_t t_ns) noexcept;
   void await_imu(std::int64_t t_ns) noexcept;
   void finish() noexcept;
+  /// Mapping on: keeps a held keyframe's frame, and hands a released keyframe to the mapper
+  /// with its own frame (this one, or the oldest kept one).
+  void hand_keyframe(const TrackedFrame& f, rt::FrameHandle h) noexcept;
+  void release_held_frames() noexcept;
   template <class Pred>
   bool wait(Pred&& ready, const char* what) noexcept;
 
@@ -144,6 +151,10 @@ class LiveTracker {
   std::uint32_t pending_flags_ = 0;
   bool end_pending_ = false;  // the end marker was taken behind the frame being tracked
   std::uint64_t frame_index_ = 0;
+  // Frames of the keyframes the tracker holds, oldest first, retained (sized at start-up).
+  std::vector<rt::FrameHandle> held_frames_;
+  std::size_t held_head_ = 0;
+  std::size_t held_count_ = 0;
   InitialPoseSource initial_pose_ = InitialPoseSource::identity;
   std::atomic<bool> done_{false};
   std::atomic<bool> failed_{false};

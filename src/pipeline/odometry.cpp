@@ -116,6 +116,7 @@ TrackedFrame Odometry::track(const RgbdView& frame) {
   f.pose_from_gicp = out.pose_from_gicp;
   f.imu_guess = T_w_c_imu.has_value() && !out.guess_fell_back;
   f.keyframe = out.keyframe;
+  f.held = out.held;
   f.inlier_ratio = out.gicp.inlier_ratio;
   f.gicp_iterations = out.gicp.iterations;
   f.gicp_verdict = out.gicp.verdict;

@@ -67,6 +67,7 @@ struct TrackedFrame {
   bool pose_from_gicp = false;  ///< false: T_w_c is the guess (IMU-propagated in imu mode)
   bool imu_guess = false;       ///< the guess came from the IMU (imu mode with a prediction)
   bool keyframe = false;
+  bool held = false;  ///< became a held keyframe, released later (tracking::TrackingOutput::held)
   double inlier_ratio = 0.0;
   int gicp_iterations = 0;
   tracking::GicpVerdict gicp_verdict = tracking::GicpVerdict::diverged;  ///< (first: diverged)

@@ -54,7 +54,7 @@ Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geom
   if (moving_test_on()) {
     history_ = FrameHistory(camera, 2 * setting.moving_window_frames + 1,
                             std::max(1, setting.preprocess.depth.pixel_stride));
-    held_.resize(static_cast<std::size_t>(setting.moving_window_frames) + 1);
+    held_.resize(static_cast<std::size_t>(setting.held_keyframes()));
     held_frame_.assign(held_.size(), 0);
     for (Keyframe& k : held_) {
       k.cloud_c.reserve(n);
@@ -181,7 +181,10 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
     if (new_keyframe && moving_test_on()) {
       // Inserted once the frames after it are seen. (The ring cannot be full: a keyframe
       // held at frame f leaves at frame f + moving_window_frames.)
-      if (held_count_ < held_.size()) hold_keyframe(t_ns, out.T_w_c);
+      if (held_count_ < held_.size()) {
+        hold_keyframe(t_ns, out.T_w_c);
+        out.held = true;
+      }
     } else if (new_keyframe) {
       make_keyframe(t_ns, out.T_w_c);
       out.keyframe = true;

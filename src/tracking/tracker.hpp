@@ -39,6 +39,11 @@ struct TrackingOutput {
   bool pose_from_gicp = false;   ///< false: T_w_c is the (IMU) guess, not a measurement
   bool guess_fell_back = false;  ///< imu mode without an IMU pose: constant velocity used
   bool keyframe = false;
+  /// This frame became a held keyframe (moving test on): last_keyframe() carries it, with this
+  /// frame's t_ns, on the frame that releases it (keyframe = true) moving_window_frames frames
+  /// later. A caller that needs the keyframe's images keeps this frame's until then; held
+  /// keyframes are released oldest first, never dropped.
+  bool held = false;
   TrackingStatus status = TrackingStatus::initialized;
   GicpResult gicp;
   DepthToPointsStats points;
@@ -90,6 +95,9 @@ class Tracker {
 
   /// The most recent keyframe (camera-frame Gaussians and T_w_c), for the mapper.
   [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }
+  /// How many keyframes can be held at once (moving_window_frames + 1 with the moving test on,
+  /// 0 without): what a caller keeping held frames' images must have room for.
+  [[nodiscard]] std::size_t held_capacity() const { return held_.size(); }
   [[nodiscard]] const LocalMap& local_map() const { return map_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
   /// Keyframes whose moving test would have flagged most points (taken as a pose error).
@@ -109,9 +117,7 @@ class Tracker {
   /// The oldest held keyframe, once moving_window_frames frames after it are seen: flags its
   /// moving points, inserts it into the local map and makes it keyframe_. Returns its flags.
   int release_held_keyframe();
-  [[nodiscard]] bool moving_test_on() const {
-    return setting_.moving_margin_m > 0.0 && setting_.moving_window_frames > 0;
-  }
+  [[nodiscard]] bool moving_test_on() const { return setting_.moving_test_on(); }
 
   Setting setting_;
   rt::WorkerTeam team_;

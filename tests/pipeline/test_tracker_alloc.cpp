@@ -58,7 +58,7 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
   testing::simulate(cfg, path);
 
   const PinholeCamera camera = RecordingSource::first_camera(path);
-  rt::FramePool pool({.slots = 8,
+  rt::FramePool pool({.slots = 16,  // as rt.frame_pool_slots: held keyframes keep theirs
                       .width = static_cast<std::uint32_t>(camera.width_px),
                       .height = static_cast<std::uint32_t>(camera.height_px),
                       .colour_channels = 3});

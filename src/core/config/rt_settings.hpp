@@ -10,7 +10,7 @@ struct RtSettings {
   bool realtime_priorities = true;     ///< request SCHED_FIFO from the thread table
   bool pin_cpus = true;                ///< apply the table's CPU affinities
   int imu_ring_capacity = 1024;        ///< samples (power of two)
-  int frame_pool_slots = 8;            ///< preallocated RGB-D frames
+  int frame_pool_slots = 16;           ///< preallocated RGB-D frames
   bool tracker_phase_lock = true;      ///< slide the tracker's ticks to the frames' arrival
   double tracker_phase_lead_ms = 2.0;  ///< target tick - frame arrival (rt/phase_lock.hpp)
 
@@ -22,7 +22,11 @@ struct RtSettings {
     v.field("imu_ring_capacity", imu_ring_capacity,
             {"samples", 16, 65536, "IMU driver to tracker ring; full = drop newest, counted"});
     v.field("frame_pool_slots", frame_pool_slots,
-            {"frames", 2, 256, "preallocated RGB-D frame slots"});
+            {"frames", 2, 256,
+             "preallocated RGB-D frame slots: the driver's, the tracker's, 2 in the mapper's "
+             "hands, the frames of keyframes held for the moving test "
+             "(tracking.moving_window_frames + 1) and the frame ring (the rest, rounded down "
+             "to a power of two)"});
     v.field("tracker_phase_lock", tracker_phase_lock,
             "real time: phase-lock the tracker's fixed-rate ticks to the camera frames' arrival "
             "(false: ticks at an arbitrary phase, each frame waits up to one period)");

@@ -138,6 +138,14 @@ struct TrackerSetting {
   int moving_window_frames = 4;
 
   [[nodiscard]] double max_correction_rad() const { return max_correction_deg * kRadPerDeg; }
+  [[nodiscard]] bool moving_test_on() const {
+    return moving_margin_m > 0.0 && moving_window_frames > 0;
+  }
+  /// Keyframes the tracker can hold at once for the moving test (a keyframe at most every
+  /// frame, each held moving_window_frames frames): moving_window_frames + 1, or 0 when off.
+  [[nodiscard]] int held_keyframes() const {
+    return moving_test_on() ? moving_window_frames + 1 : 0;
+  }
 };
 
 }  // namespace vigs::config
