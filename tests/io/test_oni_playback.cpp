@@ -4,8 +4,12 @@
 #include <OpenNI.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 #include "io/io_error.hpp"
 #include "io/oni/mcap_to_oni.hpp"
@@ -139,7 +143,17 @@ TEST_F(OniPlayback, McapRecordingBecomesAClipThatOpenNI2Plays) {
     const auto c_rgb = ros_msgs::add_channel<ros_msgs::Image>(writer, "/cam/rgb");
     const auto c_depth = ros_msgs::add_channel<ros_msgs::Image>(writer, "/cam/depth");
     std::vector<std::uint8_t> buf;
-    for (int f = 0; f < 4; ++f) {
+    // Out of stamp order, halves apart, and a colour image without depth (frame 4): the clip
+    // must still hold frames 0-3 in stamp order.
+    struct Half {
+      int frame;
+      bool colour;
+    };
+    const Half order[] = {{1, true},  {0, true},  {0, false}, {1, false}, {3, true},
+                          {3, false}, {2, false}, {4, true},  {2, true}};
+    std::uint64_t log_t = 1;
+    for (const Half& half : order) {
+      const int f = half.frame;
       ros_msgs::Image rgb, depth;
       rgb.header.stamp = ros_msgs::Time::from_ns(1'000'000'000 + 50'000'000ll * f);
       depth.header = rgb.header;
@@ -157,9 +171,11 @@ TEST_F(OniPlayback, McapRecordingBecomesAClipThatOpenNI2Plays) {
           depth.data.insert(depth.data.end(), p, p + 4);
         }
       }
-      const std::uint64_t t = static_cast<std::uint64_t>(rgb.header.stamp.to_ns());
-      ros_msgs::write_message(writer, c_rgb, t, rgb, buf);
-      ros_msgs::write_message(writer, c_depth, t, depth, buf);
+      if (half.colour) {
+        ros_msgs::write_message(writer, c_rgb, log_t++, rgb, buf);
+      } else {
+        ros_msgs::write_message(writer, c_depth, log_t++, depth, buf);
+      }
     }
     writer.close();
   }
@@ -168,7 +184,7 @@ TEST_F(OniPlayback, McapRecordingBecomesAClipThatOpenNI2Plays) {
   options.depth_topic = "/cam/depth";
   const oni::McapToOniResult result = oni::make_oni_from_mcap(mcap_path, oni_path, options);
   EXPECT_EQ(result.frames, 4u);
-  EXPECT_EQ(result.unmatched, 0u);
+  EXPECT_EQ(result.unmatched, 1u);
   EXPECT_EQ(result.fps, 20u);
 
   openni::Device device;
@@ -216,6 +232,34 @@ TEST(OniClipWriter, RejectsBadFramesAndSettings) {
   std::vector<std::uint8_t> rgb(47);
   EXPECT_THROW(w.add_frame(depth, rgb), IoError);
   EXPECT_THROW(w.close(), IoError);  // no frames
+}
+
+TEST(OniClipWriter, StreamsFramesToATemporaryFileAndLeavesNothingUnclosed) {
+  // Frames go to disk as they are added (memory stays at one frame for any clip length), into
+  // a temporary file that only close() puts in place.
+  const std::string path = test::temp_path("stream.oni");
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  const std::vector<std::uint16_t> depth(kW * kH, 1000);
+  const std::vector<std::uint8_t> rgb(kW * kH * 3, 7);
+  const std::uintmax_t frame_bytes = kW * kH * 5;
+  {
+    oni::OniClipWriter w(path, {kW, kH, 30});
+    for (int f = 0; f < 3; ++f) w.add_frame(depth, rgb);
+    std::fflush(nullptr);  // every open stdio stream, the writer's too
+    ASSERT_TRUE(std::filesystem::exists(tmp));
+    EXPECT_GE(std::filesystem::file_size(tmp), 3 * frame_bytes);
+    EXPECT_FALSE(std::filesystem::exists(path));
+  }  // destroyed without close(): an error on the way
+  EXPECT_FALSE(std::filesystem::exists(tmp));
+  EXPECT_FALSE(std::filesystem::exists(path));
+  {
+    oni::OniClipWriter w(path, {kW, kH, 30});
+    for (int f = 0; f < 3; ++f) w.add_frame(depth, rgb);
+    w.close();
+  }
+  EXPECT_FALSE(std::filesystem::exists(tmp));
+  ASSERT_TRUE(std::filesystem::exists(path));
+  EXPECT_GT(std::filesystem::file_size(path), 3 * frame_bytes);
 }
 
 }  // namespace

@@ -1,8 +1,9 @@
 // The live tracker hands each keyframe to the mapper with the keyframe's own frame. With the
 // moving test on (the default), the tracker holds a keyframe for moving_window_frames frames
 // and releases it on a later frame; the frame handed with it must be the held one (same
-// stamp: the pool slot the source filled with it), not the frame that released it. Lockstep over a simulated office with
-// walking people; the mapper's side is a consumer thread that checks every slot.
+// stamp: the pool slot the source filled with it), not the frame that released it. Lockstep over a
+// simulated office with walking people; the mapper's side is a consumer thread that checks every
+// slot.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -19,8 +20,8 @@ namespace {
 
 struct HandedKeyframes {
   int total = 0;
-  int own_frame = 0;        // the slot's frame carries the keyframe's stamp
-  int released_later = 0;   // held: published after frames newer than it were tracked
+  int own_frame = 0;       // the slot's frame carries the keyframe's stamp
+  int released_later = 0;  // held: published after frames newer than it were tracked
 };
 
 HandedKeyframes run_lockstep(const config::RobotConfig& cfg, const std::string& path,

@@ -88,18 +88,28 @@ std::vector<std::uint16_t> to_depth_mm(const ros_msgs::Image& img, const std::st
 
 }  // namespace
 
-McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::string& oni_path,
-                                   const McapToOniOptions& options) {
-  refuse_output_over_inputs(oni_path, {mcap_path});
+namespace {
+
+// The messages read (in file order) and the colour/depth pairs among them, from a first pass
+// that reads stamps and checks sizes without keeping any image.
+struct PairPlan {
+  std::size_t messages = 0;          // messages of the two topics read, the last one included
+  std::vector<std::int64_t> stamps;  // complete pairs, ascending
+  std::size_t unmatched = 0;
+  std::uint32_t width = 0, height = 0;
+};
+
+PairPlan plan_pairs(const std::string& mcap_path, const McapToOniOptions& options) {
   mcap::McapReaderOptions ro;
   ro.topics = {options.rgb_topic, options.depth_topic};
   mcap::McapReader reader(mcap_path, ro);
-  std::map<std::int64_t, Frame> frames;  // by header stamp, ns
-  McapToOniResult result;
+  std::map<std::int64_t, std::uint8_t> halves;  // by header stamp: bit 0 colour, bit 1 depth
+  PairPlan plan;
   mcap::MessageView m;
   ros_msgs::Image img;
   std::size_t complete = 0;
   while (complete < options.max_frames && reader.next(m)) {
+    ++plan.messages;
     try {
       if (!ros_msgs::decode_message(m, img)) fail(mcap_path, m.channel->topic + " is not an Image");
     } catch (const ros_msgs::DecodeError& e) {
@@ -110,65 +120,103 @@ McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::stri
       fail(mcap_path, "image of " + std::to_string(img.width) + "x" + std::to_string(img.height) +
                           " on " + m.channel->topic + " (ONI clips hold at most 1600x1200)");
     }
-    if (result.width == 0) {
-      result.width = img.width;
-      result.height = img.height;
+    if (plan.width == 0) {
+      plan.width = img.width;
+      plan.height = img.height;
     }
-    if (img.width != result.width || img.height != result.height) {
+    if (img.width != plan.width || img.height != plan.height) {
       fail(mcap_path, "image sizes differ (" + std::to_string(img.width) + "x" +
                           std::to_string(img.height) + " on " + m.channel->topic + ")");
     }
     const std::int64_t t_ns = img.header.stamp.to_ns();
     if (t_ns < options.from_stamp_ns || t_ns > options.to_stamp_ns) continue;
-    Frame& f = frames[t_ns];
-    if (m.channel->topic == options.rgb_topic && !f.has_rgb) {
-      f.rgb = to_rgb(img, mcap_path);
-      f.has_rgb = true;
-    } else if (m.channel->topic == options.depth_topic && !f.has_depth) {
-      f.depth_mm = to_depth_mm(img, mcap_path);
-      f.has_depth = true;
-    } else {
-      continue;
-    }
-    complete += f.has_rgb && f.has_depth;
+    const std::uint8_t bit = m.channel->topic == options.rgb_topic ? 1 : 2;
+    std::uint8_t& h = halves[t_ns];
+    if ((h & bit) != 0) continue;  // a second image of that half: ignored
+    h |= bit;
+    complete += h == 3;
   }
-  std::vector<std::int64_t> stamps;
-  for (const auto& [t, f] : frames) {
-    if (f.has_rgb && f.has_depth) {
-      stamps.push_back(t);
+  for (const auto& [t, h] : halves) {
+    if (h == 3) {
+      plan.stamps.push_back(t);
     } else {
-      ++result.unmatched;
+      ++plan.unmatched;
     }
   }
-  if (stamps.empty()) {
+  return plan;
+}
+
+}  // namespace
+
+McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::string& oni_path,
+                                   const McapToOniOptions& options) {
+  refuse_output_over_inputs(oni_path, {mcap_path});
+  // Two passes, so that memory stays at a few frames whatever the recording's length (a
+  // 3-minute 720x480 clip is 6 GB): the first finds the pairs and the frame rate, the second
+  // converts each pair as it completes and writes it in stamp order.
+  const PairPlan plan = plan_pairs(mcap_path, options);
+  if (plan.stamps.empty()) {
     fail(mcap_path, "no colour/depth pairs with equal stamps on " + options.rgb_topic + " and " +
                         options.depth_topic);
   }
+  McapToOniResult result;
+  result.width = plan.width;
+  result.height = plan.height;
+  result.unmatched = plan.unmatched;
   result.fps = options.fps;
   if (result.fps == 0) {
     std::vector<std::int64_t> dt;
-    for (std::size_t i = 1; i < stamps.size(); ++i) dt.push_back(stamps[i] - stamps[i - 1]);
+    for (std::size_t i = 1; i < plan.stamps.size(); ++i)
+      dt.push_back(plan.stamps[i] - plan.stamps[i - 1]);
     std::nth_element(dt.begin(), dt.begin() + static_cast<long>(dt.size() / 2), dt.end());
     result.fps =
         dt.empty() || dt[dt.size() / 2] <= 0
             ? 30
             : static_cast<std::uint32_t>(std::max(1.0, std::round(1e9 / dt[dt.size() / 2])));
   }
+
+  mcap::McapReaderOptions ro;
+  ro.topics = {options.rgb_topic, options.depth_topic};
+  mcap::McapReader reader(mcap_path, ro);
   OniClipWriter writer(oni_path, {result.width, result.height, result.fps});
-  for (const std::int64_t t : stamps) {
-    auto it = frames.find(t);
-    if (options.recorded_stamps) {
-      writer.add_frame_at(recorded_timestamp_us(t, stamps.front()), it->second.depth_mm,
-                          it->second.rgb);
-    } else {
-      writer.add_frame(it->second.depth_mm, it->second.rgb);
+  std::map<std::int64_t, Frame> pending;  // pairs (or halves) not yet written, by stamp
+  std::size_t next = 0;                   // plan.stamps[next] is the next pair to write
+  mcap::MessageView m;
+  ros_msgs::Image img;
+  for (std::size_t k = 0; k < plan.messages && next < plan.stamps.size() && reader.next(m); ++k) {
+    if (!ros_msgs::decode_message(m, img)) fail(mcap_path, m.channel->topic + " is not an Image");
+    const std::int64_t t_ns = img.header.stamp.to_ns();
+    if (!std::binary_search(plan.stamps.begin() + static_cast<long>(next), plan.stamps.end(), t_ns))
+      continue;  // not a pair (or written already)
+    Frame& f = pending[t_ns];
+    if (m.channel->topic == options.rgb_topic && !f.has_rgb) {
+      f.rgb = to_rgb(img, mcap_path);
+      f.has_rgb = true;
+    } else if (m.channel->topic == options.depth_topic && !f.has_depth) {
+      f.depth_mm = to_depth_mm(img, mcap_path);
+      f.has_depth = true;
     }
-    frames.erase(it);  // the writer holds its own copy: keep memory near one clip
+    // Write every pair that is complete and next in stamp order.
+    for (auto it = pending.begin();
+         next < plan.stamps.size() && it != pending.end() && it->first == plan.stamps[next] &&
+         it->second.has_rgb && it->second.has_depth;
+         it = pending.erase(it), ++next) {
+      if (options.recorded_stamps) {
+        writer.add_frame_at(recorded_timestamp_us(it->first, plan.stamps.front()),
+                            it->second.depth_mm, it->second.rgb);
+      } else {
+        writer.add_frame(it->second.depth_mm, it->second.rgb);
+      }
+    }
+  }
+  if (next != plan.stamps.size()) {
+    fail(mcap_path, "the recording changed while it was converted (" + std::to_string(next) +
+                        " of " + std::to_string(plan.stamps.size()) + " pairs found again)");
   }
   writer.close();
-  result.frames = stamps.size();
-  result.first_stamp_ns = static_cast<std::uint64_t>(stamps.front());
-  result.last_stamp_ns = static_cast<std::uint64_t>(stamps.back());
+  result.frames = plan.stamps.size();
+  result.first_stamp_ns = static_cast<std::uint64_t>(plan.stamps.front());
+  result.last_stamp_ns = static_cast<std::uint64_t>(plan.stamps.back());
   result.damage = mcap::damage_of(reader);
   return result;
 }

@@ -12,6 +12,7 @@
 #include "io/oni/oni_clip_writer.hpp"
 
 #include <cstring>
+#include <memory>
 #include <string_view>
 #include <vector>
 
@@ -93,25 +94,23 @@ void general_prop(std::vector<std::uint8_t>& out, std::uint32_t node, std::strin
 struct OniClipWriter::Impl {
   std::string path;
   OniClipSettings settings;
-  std::vector<std::vector<std::uint16_t>> depth;
-  std::vector<std::vector<std::uint8_t>> rgb;
+  std::unique_ptr<AtomicFile> file;  // opened at the first frame
+  std::uint32_t frames = 0;
+  std::uint64_t first_t_us = 0, last_t_us = 0;
+  std::size_t header_bytes = 0;
+  std::vector<std::uint8_t> record;  // one record at a time, reused
   bool closed = false;
-
-  std::vector<std::uint64_t> t_us;  // per frame, strictly increasing, > 0
-
-  std::uint64_t timestamp_us(std::size_t frame) const { return t_us[frame]; }
 
   void add_node(std::vector<std::uint8_t>& out, std::uint32_t node, std::string_view name,
                 std::int32_t type, std::uint64_t oni_format, std::uint32_t bytes_per_pixel) const {
-    const auto frames = static_cast<std::uint32_t>(depth.size());
     {
       RecordBuilder r(out, kNodeAdded, node);
       r.string(name);
       r.fields().put(type);
       r.fields().put(kCodecUncompressed);
       r.fields().put(frames);
-      r.fields().put(timestamp_us(0));
-      r.fields().put(timestamp_us(frames - 1));
+      r.fields().put(first_t_us);
+      r.fields().put(last_t_us);
       r.fields().put<std::uint64_t>(0);  // no seek table
       r.finish();
     }
@@ -136,9 +135,9 @@ struct OniClipWriter::Impl {
     RecordBuilder(out, kNodeStateReady, node).finish();
   }
 
-  // Everything before the first frame record.
+  // Everything before the first frame record, for the frames added so far. Its size does not
+  // depend on the counts and times (fixed-width fields), so close() rewrites it in place.
   std::vector<std::uint8_t> header() const {
-    const auto frames = static_cast<std::uint32_t>(depth.size());
     std::vector<std::uint8_t> out;
     ByteWriter w(out);
     w.put_bytes(std::string_view("NI10"));
@@ -146,51 +145,33 @@ struct OniClipWriter::Impl {
     w.put<std::uint8_t>(0);
     w.put<std::uint16_t>(1);
     w.put<std::uint32_t>(0);
-    w.put(timestamp_us(frames - 1));  // global max timestamp
-    w.put<std::uint32_t>(1);          // max node id (nodes 0 and 1)
+    w.put(last_t_us);         // global max timestamp
+    w.put<std::uint32_t>(1);  // max node id (nodes 0 and 1)
 
     add_node(out, 0, "Depth", kNodeTypeDepth, kOniPixelFormatDepth1mm, 2);
     add_node(out, 1, "Image", kNodeTypeImage, kOniPixelFormatRgb888, 3);
     for (std::uint32_t node = 0; node < 2; ++node) {
       RecordBuilder r(out, kNodeDataBegin, node);
       r.fields().put(frames);  // SeekInfo {uint32 frames, uint64 max timestamp}, packed
-      r.fields().put(timestamp_us(frames - 1));
+      r.fields().put(last_t_us);
       r.finish();
     }
     return out;
   }
 
-  // Frame f's record for `node` (0 depth, 1 colour), into `out` (cleared first).
-  void frame_record(std::uint32_t f, std::uint32_t node, std::vector<std::uint8_t>& out) const {
-    out.clear();
-    RecordBuilder r(out, kNewData, node);
-    r.fields().put(timestamp_us(f));
-    r.fields().put(f + 1);  // frame numbers start at 1
-    if (node == 0) {
-      r.finish(std::span(reinterpret_cast<const std::uint8_t*>(depth[f].data()),
-                         depth[f].size() * sizeof(std::uint16_t)));
-    } else {
-      r.finish(rgb[f]);
+  void put(std::span<const std::uint8_t> bytes) {
+    if (std::fwrite(bytes.data(), 1, bytes.size(), file->file()) != bytes.size()) {
+      throw IoError("ONI clip " + path + ": short write");
     }
   }
 
-  // The whole file, one record at a time (never a second copy of the clip in memory).
-  void write(std::FILE* file) const {
-    const auto put = [file](const std::vector<std::uint8_t>& bytes) {
-      if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size()) {
-        throw IoError("short write");
-      }
-    };
-    put(header());
-    std::vector<std::uint8_t> record;
-    for (std::uint32_t f = 0; f < static_cast<std::uint32_t>(depth.size()); ++f) {
-      for (std::uint32_t node = 0; node < 2; ++node) {
-        frame_record(f, node, record);
-        put(record);
-      }
-    }
+  // Frame `frames`' record for `node` (0 depth, 1 colour), through the reused buffer.
+  void write_record(std::uint64_t t_us, std::uint32_t node, std::span<const std::uint8_t> payload) {
     record.clear();
-    RecordBuilder(record, kEnd, 0).finish();
+    RecordBuilder r(record, kNewData, node);
+    r.fields().put(t_us);
+    r.fields().put(frames + 1);  // frame numbers start at 1
+    r.finish(payload);
     put(record);
   }
 };
@@ -210,39 +191,66 @@ OniClipWriter::~OniClipWriter() = default;
 
 void OniClipWriter::add_frame(std::span<const std::uint16_t> depth_mm,
                               std::span<const std::uint8_t> rgb) {
-  add_frame_at(uniform_timestamp_us(impl_->depth.size(), impl_->settings.fps), depth_mm, rgb);
+  add_frame_at(uniform_timestamp_us(impl_->frames, impl_->settings.fps), depth_mm, rgb);
 }
 
 void OniClipWriter::add_frame_at(std::uint64_t t_us, std::span<const std::uint16_t> depth_mm,
                                  std::span<const std::uint8_t> rgb) {
   Impl& m = *impl_;
-  if (t_us == 0 || (!m.t_us.empty() && t_us <= m.t_us.back())) {
-    throw IoError("ONI clip " + m.path + ": frame " + std::to_string(m.depth.size()) +
-                  " timestamp " + std::to_string(t_us) +
-                  " us is not after the previous one (or is 0)");
+  if (m.closed) throw IoError("ONI clip " + m.path + ": add_frame after close");
+  if (t_us == 0 || (m.frames > 0 && t_us <= m.last_t_us)) {
+    throw IoError("ONI clip " + m.path + ": frame " + std::to_string(m.frames) + " timestamp " +
+                  std::to_string(t_us) + " us is not after the previous one (or is 0)");
   }
   const std::size_t n = std::size_t{m.settings.width} * m.settings.height;
-  if (m.closed) throw IoError("ONI clip " + m.path + ": add_frame after close");
   if (depth_mm.size() != n || rgb.size() != 3 * n) {
-    throw IoError("ONI clip " + m.path + ": frame " + std::to_string(m.depth.size()) + " has " +
+    throw IoError("ONI clip " + m.path + ": frame " + std::to_string(m.frames) + " has " +
                   std::to_string(depth_mm.size()) + " depth values and " +
                   std::to_string(rgb.size()) + " colour bytes, expected " + std::to_string(n) +
                   " and " + std::to_string(3 * n));
   }
-  m.depth.emplace_back(depth_mm.begin(), depth_mm.end());
-  m.rgb.emplace_back(rgb.begin(), rgb.end());
-  m.t_us.push_back(t_us);
+  try {
+    if (!m.file) {
+      m.file = std::make_unique<AtomicFile>(m.path);
+      m.first_t_us = m.last_t_us = t_us;
+      const std::vector<std::uint8_t> h = m.header();
+      m.header_bytes = h.size();
+      m.put(h);
+    }
+    m.write_record(t_us, 0,
+                   {reinterpret_cast<const std::uint8_t*>(depth_mm.data()), depth_mm.size_bytes()});
+    m.write_record(t_us, 1, rgb);
+  } catch (const IoError&) {
+    m.file.reset();  // removes the temporary file
+    throw;
+  } catch (const std::exception& e) {
+    m.file.reset();
+    throw IoError("ONI clip " + m.path + ": " + e.what());
+  }
+  m.last_t_us = t_us;
+  ++m.frames;
 }
 
 void OniClipWriter::close() {
   Impl& m = *impl_;
   if (m.closed) return;
-  if (m.depth.empty()) throw IoError("ONI clip " + m.path + ": no frames added");
+  if (m.frames == 0 || !m.file) throw IoError("ONI clip " + m.path + ": no frames added");
   try {
-    write_file_atomically(m.path, [&](std::FILE* f) { m.write(f); });
+    m.record.clear();
+    RecordBuilder(m.record, kEnd, 0).finish();
+    m.put(m.record);
+    // The counts and the last time are known now: the header again, same size, in place.
+    const std::vector<std::uint8_t> h = m.header();
+    if (h.size() != m.header_bytes || std::fseek(m.file->file(), 0, SEEK_SET) != 0) {
+      throw IoError("ONI clip " + m.path + ": cannot rewrite the header");
+    }
+    m.put(h);
+    m.file->commit();
   } catch (const std::exception& e) {
+    m.file.reset();
     throw IoError("ONI clip " + m.path + ": " + e.what());
   }
+  m.file.reset();
   m.closed = true;
 }
 

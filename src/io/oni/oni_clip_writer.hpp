@@ -16,12 +16,13 @@ struct OniClipSettings {
   double vfov_rad = 0.7966;    ///< vertical field of view (45.6 deg)
 };
 
-/// Writes a short uncompressed RGB-D `.oni` clip that real OpenNI2 plays back
+/// Writes an uncompressed RGB-D `.oni` clip that real OpenNI2 plays back
 /// (`openni::Device::open(path)`, PlaybackControl, depth PIXEL_FORMAT_DEPTH_1_MM and colour
-/// PIXEL_FORMAT_RGB888 streams). Frames are kept in memory (one copy: close() writes them
-/// record by record; 720x480 is 1.7 MB a frame) and the file is written atomically (temp file,
-/// then rename) by close(): clips are test fixtures and the short sequences `vigs run` replays
-/// through the drivers, not long recordings.
+/// PIXEL_FORMAT_RGB888 streams). Frames go to a temporary file as they are added (memory stays
+/// at one frame whatever the clip's length; 720x480 is 1.7 MB a frame); close() writes the
+/// header again with the frame count and last time (its size does not depend on them) and
+/// renames the file into place, so `path` is whole or untouched. A writer destroyed without
+/// close() (an error) removes its temporary file.
 class OniClipWriter {
  public:
   /// Throws IoError if the settings are invalid (zero size, fps 0).
