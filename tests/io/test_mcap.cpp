@@ -2,6 +2,10 @@
 // file structure (summary, statistics, CRCs), topic filtering.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 #include "io/byte_buffer.hpp"
@@ -198,6 +202,54 @@ TEST(Mcap, TopicFilterSkipsOtherChannels) {
   EXPECT_TRUE(r.issues().empty());
   ASSERT_NE(r.find_channel("/vigs/ground_truth"), nullptr);
   EXPECT_EQ(r.find_channel("/nope"), nullptr);
+}
+
+// Resident set size of this process, bytes (/proc/self/statm's second field, in pages).
+std::uint64_t resident_bytes() {
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  unsigned long long size = 0, resident = 0;
+  const int n = f != nullptr ? std::fscanf(f, "%llu %llu", &size, &resident) : 0;
+  if (f != nullptr) std::fclose(f);
+  return n == 2 ? resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE)) : 0;
+}
+
+TEST(Mcap, ReadingALongRecordingFrontToBackKeepsAWindowResidentNotTheFile) {
+  // 256 MiB of uncompressed 1 MiB messages (a recording's images): the mapped file's pages the
+  // reader is done with leave the resident set, so reading it costs a window (64 MiB steps).
+  const std::string path = test::temp_path("long.mcap");
+  constexpr int kMessages = 256;
+  std::vector<std::uint8_t> payload(1u << 20);
+  {
+    mcap::McapWriterOptions options;
+    options.compression = mcap::Compression::kNone;
+    mcap::McapWriter w(path, options);
+    const std::uint16_t ch = w.add_channel("/blob", 0, "cdr");
+    for (int i = 0; i < kMessages; ++i) {
+      std::memset(payload.data(), i, payload.size());
+      w.write(ch, 1000ull * i, 1000ull * i, payload);
+    }
+    w.close();
+  }
+  const std::uint64_t before = resident_bytes();
+  std::uint64_t peak = before;
+  int read = 0, intact = 0;
+  {
+    mcap::McapReader r(path);
+    mcap::MessageView m;
+    while (r.next(m)) {
+      intact += m.data.size() == payload.size() &&
+                m.data.front() == static_cast<std::uint8_t>(read) &&
+                m.data.back() == static_cast<std::uint8_t>(read);
+      ++read;
+      peak = std::max(peak, resident_bytes());
+    }
+    EXPECT_TRUE(r.issues().empty());
+  }
+  std::remove(path.c_str());
+  EXPECT_EQ(read, kMessages);
+  EXPECT_EQ(intact, kMessages);
+  ASSERT_GT(before, 0u);
+  EXPECT_LT(peak - before, 128ull << 20) << "the whole 256 MiB file stayed resident";
 }
 
 TEST(Mcap, ChunksCloseAfterTheirTimeSpanSoSlowStreamsLoseLittleInACrash) {

@@ -5,6 +5,9 @@
 #include <cstring>
 #include <new>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include "io/mcap/reader_impl.hpp"
 
 namespace vigs::io::mcap {
@@ -150,7 +153,21 @@ bool McapReader::Impl::open_chunk(std::uint64_t offset, std::span<const std::uin
   return true;
 }
 
+void McapReader::Impl::release_pages_before(std::uint64_t at) {
+  constexpr std::uint64_t kStepBytes = 64ull << 20;
+  static const auto page = static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+  const std::uint64_t end = std::min(at, size) / page * page;
+  if (end < released_to) released_to = end;  // moved back: rewind or resync
+  if (base == nullptr || end - released_to < kStepBytes) return;
+  // A read-only private file mapping never written: the pages are dropped, not lost.
+  ::madvise(const_cast<std::uint8_t*>(base) + released_to, end - released_to, MADV_DONTNEED);
+  released_to = end;
+}
+
 bool McapReader::Impl::step(MessageView& out) {
+  // Everything before pos is done with: the previous record is parsed (its chunk finished, its
+  // message handed out by an earlier next()) and CRC'd.
+  release_pages_before(pos);
   if (pos >= size || size - pos < kRecordHeader) {
     issue(ReadIssue::Kind::kTruncated, pos, "file ends before the Data End record");
     done = true;

@@ -58,6 +58,13 @@ struct McapReader::Impl {
   std::uint64_t chunk_pos = 0, chunk_offset = 0;
   bool in_chunk = false;
   ZSTD_DCtx* zstd = nullptr;
+  std::uint64_t released_to = 0;  // pages below this were given back (release_pages_before)
+
+  /// The mapping's pages below `at` (read, CRC'd and parsed: a new record starts there) leave
+  /// the resident set, in steps of 64 MiB: reading a long recording front to back then costs a
+  /// window of memory, not the file's size (a 3-minute 720x480 recording is 4 GB). Pages read
+  /// again (rewind, resync) fault back in from the file.
+  void release_pages_before(std::uint64_t at);
 
   void issue(ReadIssue::Kind kind, std::uint64_t offset, const std::string& what) {
     issues.push_back({kind, offset, path + ": byte " + std::to_string(offset) + ": " + what});

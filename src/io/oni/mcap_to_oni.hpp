@@ -13,7 +13,7 @@ struct McapToOniOptions {
   /// At most this many pairs (83 minutes at 20 Hz). Pairs are streamed to the clip as they
   /// complete: memory stays at a few frames (720x480 is 1.7 MB a frame) whatever the length.
   std::size_t max_frames = 100000;
-  std::uint32_t fps = 0;         ///< 0 = from the median spacing of the frame stamps
+  std::uint32_t fps = 0;  ///< 0 = from the median spacing of the frame stamps
   /// Clip timestamps from the header stamps (1 ms + stamp - first stamp, in whole us) instead of
   /// uniform at fps, so real-time playback keeps the recording's own frame times.
   bool recorded_stamps = false;
