@@ -2,6 +2,8 @@
 // file structure (summary, statistics, CRCs), topic filtering.
 #include <gtest/gtest.h>
 
+#include <sys/mman.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -250,6 +252,48 @@ TEST(Mcap, ReadingALongRecordingFrontToBackKeepsAWindowResidentNotTheFile) {
   EXPECT_EQ(intact, kMessages);
   ASSERT_GT(before, 0u);
   EXPECT_LT(peak - before, 128ull << 20) << "the whole 256 MiB file stayed resident";
+}
+
+TEST(Mcap, ALockedProcessDoesNotPinTheWholeRecording) {
+  // vigs run locks its memory (mlockall MCL_CURRENT | MCL_FUTURE) before its sources open the
+  // recording: the mapping must not be read in whole and pinned. In a child process, since
+  // the lock is for the whole process.
+  const std::string path = test::temp_path("locked.mcap");
+  constexpr int kMessages = 256;
+  std::vector<std::uint8_t> payload(1u << 20, 7);
+  {
+    mcap::McapWriterOptions options;
+    options.compression = mcap::Compression::kNone;
+    mcap::McapWriter w(path, options);
+    const std::uint16_t ch = w.add_channel("/blob", 0, "cdr");
+    for (int i = 0; i < kMessages; ++i) w.write(ch, 1000ull * i, 1000ull * i, payload);
+    w.close();
+  }
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    if (::mlockall(MCL_CURRENT | MCL_FUTURE) != 0) ::_exit(2);  // no permission: skipped
+    const std::uint64_t before = resident_bytes();
+    std::uint64_t peak = before;
+    int read = 0;
+    {
+      mcap::McapReader r(path);
+      peak = std::max(peak, resident_bytes());
+      mcap::MessageView m;
+      while (r.next(m)) {
+        read += m.data.size() == payload.size() && m.data[12345] == 7;
+        peak = std::max(peak, resident_bytes());
+      }
+    }
+    ::_exit(read == kMessages && peak - before < (128ull << 20) ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  std::remove(path.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 2) GTEST_SKIP() << "mlockall refused (no CAP_IPC_LOCK)";
+  EXPECT_EQ(WEXITSTATUS(status), 0)
+      << "under mlockall the 256 MiB recording was pinned whole (or misread)";
 }
 
 TEST(Mcap, ChunksCloseAfterTheirTimeSpanSoSlowStreamsLoseLittleInACrash) {

@@ -143,10 +143,18 @@ McapReader::McapReader(const std::string& path, McapReaderOptions options)
   }
   m.size = static_cast<std::uint64_t>(st.st_size);
   if (m.size > 0) {
-    void* p = ::mmap(nullptr, m.size, PROT_READ, MAP_PRIVATE, fd, 0);
-    if (p == MAP_FAILED) {
+    // Mapped without access first, then unlocked, then made readable: in a process that has
+    // locked its memory (mlockall MCL_FUTURE, rt.lock_memory) a readable mapping would be read
+    // in whole and pinned at once (a 3-minute 720x480 recording is 4 GB). The recording is
+    // read by a source thread, never on a real-time path, so its pages fault in as they are
+    // read and leave again (release_pages_before). Outside a locked process munlock does
+    // nothing.
+    void* p = ::mmap(nullptr, m.size, PROT_NONE, MAP_PRIVATE, fd, 0);
+    if (p == MAP_FAILED || ::munlock(p, m.size) != 0 || ::mprotect(p, m.size, PROT_READ) != 0) {
+      const int err = errno;
+      if (p != MAP_FAILED) ::munmap(p, m.size);
       ::close(fd);
-      throw IoError("MCAP reader: cannot map " + path + ": " + std::strerror(errno));
+      throw IoError("MCAP reader: cannot map " + path + ": " + std::strerror(err));
     }
     m.base = static_cast<const std::uint8_t*>(p);
   }
