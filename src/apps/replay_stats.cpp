@@ -47,6 +47,7 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   s["lost_diverged"] = c.lost_diverged;
   s["lost_degenerate"] = c.lost_degenerate;
   s["keyframes"] = c.keyframes;
+  s["reinitializations"] = c.reinitializations;
   s["imu_guesses"] = c.imu_guesses;
   s["imu_unavailable"] = c.imu_unavailable;
   s["imu_resets"] = c.imu_resets;

@@ -243,6 +243,7 @@ void LiveTracker::process(rt::FrameHandle h, std::int64_t wake_ns) noexcept {
 }
 
 void LiveTracker::hand_keyframe(const TrackedFrame& f, rt::FrameHandle h) noexcept {
+  if (f.reinitialized) release_held_frames();  // the tracker dropped the keyframes it held
   if (f.keyframe) {
     const tracking::Keyframe& kf = odometry_->tracker().last_keyframe();
     // The keyframe's own frame: this one (made at once), or the oldest kept one (released

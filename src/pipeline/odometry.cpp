@@ -117,6 +117,7 @@ TrackedFrame Odometry::track(const RgbdView& frame) {
   f.imu_guess = T_w_c_imu.has_value() && !out.guess_fell_back;
   f.keyframe = out.keyframe;
   f.held = out.held;
+  f.reinitialized = out.reinitialized;
   f.inlier_ratio = out.gicp.inlier_ratio;
   f.gicp_iterations = out.gicp.iterations;
   f.gicp_verdict = out.gicp.verdict;
@@ -129,6 +130,7 @@ TrackedFrame Odometry::track(const RgbdView& frame) {
 
   ++counters_.frames;
   if (out.keyframe) ++counters_.keyframes;
+  if (out.reinitialized) ++counters_.reinitializations;
   if (out.degenerate) ++counters_.degenerate;
   counters_.moving_points += out.moving_points;
   switch (out.status) {

@@ -68,6 +68,7 @@ struct TrackedFrame {
   bool imu_guess = false;       ///< the guess came from the IMU (imu mode with a prediction)
   bool keyframe = false;
   bool held = false;  ///< became a held keyframe, released later (tracking::TrackingOutput::held)
+  bool reinitialized = false;  ///< the local map restarted here (TrackingOutput::reinitialized)
   double inlier_ratio = 0.0;
   int gicp_iterations = 0;
   tracking::GicpVerdict gicp_verdict = tracking::GicpVerdict::diverged;  ///< (first: diverged)
@@ -92,10 +93,11 @@ struct OdometryCounters {
   long lost_diverged = 0;
   long lost_degenerate = 0;
   long keyframes = 0;
-  long imu_resets = 0;       ///< reset_from_tracked calls
-  long imu_guesses = 0;      ///< frames whose guess came from the IMU
-  long imu_unavailable = 0;  ///< imu mode but no prediction (tracker fell back)
-  long fused_updates = 0;    ///< fused mode: filter updates (incl. the start)
+  long reinitializations = 0;  ///< local map restarts after reinit_after_lost_frames lost frames
+  long imu_resets = 0;         ///< reset_from_tracked calls
+  long imu_guesses = 0;        ///< frames whose guess came from the IMU
+  long imu_unavailable = 0;    ///< imu mode but no prediction (tracker fell back)
+  long fused_updates = 0;      ///< fused mode: filter updates (incl. the start)
 };
 
 class Odometry {

@@ -178,7 +178,18 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
     const double overlap = held_count_ > 0 ? 1.0 : out.gicp.overlap_ratio;
     const bool new_keyframe =
         out.pose_from_gicp && policy_.is_keyframe(overlap, T_w_newest_kf_, out.T_w_c);
-    if (new_keyframe && moving_test_on()) {
+    lost_in_a_row_ = out.pose_from_gicp ? 0 : lost_in_a_row_ + 1;
+    if (setting_.reinit_after_lost_frames > 0 &&
+        lost_in_a_row_ >= setting_.reinit_after_lost_frames) {
+      // The old map no longer matches what the camera sees from where the guess puts it:
+      // start again here, as at the first frame.
+      map_.clear();
+      held_count_ = 0;
+      make_keyframe(t_ns, out.T_w_c);
+      out.keyframe = true;
+      out.reinitialized = true;
+      lost_in_a_row_ = 0;
+    } else if (new_keyframe && moving_test_on()) {
       // Inserted once the frames after it are seen. (The ring cannot be full: a keyframe
       // held at frame f leaves at frame f + moving_window_frames.)
       if (held_count_ < held_.size()) {

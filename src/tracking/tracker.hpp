@@ -44,6 +44,9 @@ struct TrackingOutput {
   /// later. A caller that needs the keyframe's images keeps this frame's until then; held
   /// keyframes are released oldest first, never dropped.
   bool held = false;
+  /// The local map was restarted at this frame (reinit_after_lost_frames lost frames in a
+  /// row): it is a keyframe at its guess pose, and keyframes still held were dropped.
+  bool reinitialized = false;
   TrackingStatus status = TrackingStatus::initialized;
   GicpResult gicp;
   DepthToPointsStats points;
@@ -146,6 +149,7 @@ class Tracker {
   bool prior_pending_ = false;
   FrameHistory history_;  ///< recent frames' depth (moving test)
   int frames_ = 0;
+  int lost_in_a_row_ = 0;
   geometry::Pose T_w_last_ = geometry::Pose::Identity();
   geometry::Pose T_w_prev_ = geometry::Pose::Identity();
   std::int64_t t_last_ns_ = 0;

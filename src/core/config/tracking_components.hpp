@@ -136,6 +136,11 @@ struct TrackerSetting {
   /// Frames before and after a keyframe it is compared with; the keyframe enters the local map
   /// (and reaches the mapper) this many frames late. 0 = off.
   int moving_window_frames = 4;
+  /// After this many consecutive lost frames the local map is dropped and restarted from the
+  /// current frame at its guess (the IMU-propagated pose in imu mode), as at the first frame:
+  /// the track goes on with the drift of the lost stretch instead of never matching the old
+  /// map again. 0 = never.
+  int reinit_after_lost_frames = 10;
 
   [[nodiscard]] double max_correction_rad() const { return max_correction_deg * kRadPerDeg; }
   [[nodiscard]] bool moving_test_on() const {

@@ -82,6 +82,10 @@ struct TrackingSettings : TrackerSetting {
             {"frames", 0, 64,
              "the moving test compares a keyframe with this many frames before and after it "
              "(the keyframe reaches the map that many frames late); 0 = off"});
+    v.field("reinit_after_lost_frames", reinit_after_lost_frames,
+            {"frames", 0, 100000,
+             "after this many consecutive lost frames the local map restarts from the current "
+             "frame at its guess (IMU pose), as at the first frame; 0 = never"});
     v.field("fusion", fusion, {"fused", "paper"},
             "imu guess: fused = the IMU prediction and its covariance are a prior factor in "
             "GICP and a 15-state filter (pose, velocity, gyro and accel bias) is updated from "
