@@ -30,8 +30,10 @@ std::size_t insert_far_field(GaussianMap& map, const FarFieldView& view,
                           static_cast<float>(std::log(0.1 * std::min(sd_x, sd_y)))};
   const double op = std::clamp(opacity, 0.01, 0.99);
   const float logit = static_cast<float>(std::log(op / (1.0 - op)));
+  // a negative depth marks a moving object's pixel: not "no depth, far away", and not counted
+  // towards the block's share of pixels without depth
   auto missing = [&](std::size_t p) {
-    return !view.depth_m || !(std::isfinite(view.depth_m[p]) && view.depth_m[p] > 0.0f);
+    return !view.depth_m || !(std::isfinite(view.depth_m[p]) && view.depth_m[p] != 0.0f);
   };
   std::size_t added = 0;
   for (int v0 = 0; v0 < h; v0 += st) {

@@ -1,0 +1,58 @@
+#pragma once
+// See-through pruning: a Gaussian that later keyframes see through is not a surface. When a
+// keyframe arrives, every Gaussian's centre is projected into it; where the keyframe measured
+// depth at that pixel (all of its 3x3 neighbourhood valid), the keyframe votes:
+// - "through" when every measured depth of the neighbourhood lies behind the Gaussian by more
+//   than margin_m + margin_per_m * z (z the Gaussian's depth): the keyframe saw a surface behind
+//   free space where the Gaussian is (a person who stood there for a moment, a Gaussian inserted
+//   before the tracker recognised the person as moving);
+// - "seen" when the centre pixel's depth is within that margin of the Gaussian's;
+// - nothing when the Gaussian is hidden (a surface in front of it), outside the image, beyond
+//   the measured range (depth 0) or near a moving object's pixel (negative depth,
+//   pipeline/moving_pixels.hpp).
+// A Gaussian seen through by at least min_count keyframes, and by at least min_fraction of the
+// keyframes that voted on it, is pruned. The neighbourhood test keeps depth edges from voting
+// through the thin Gaussians along them. Counts are two saturating 16-bit numbers per
+// Gaussian, kept aligned with the map through compact() after any other pruning. One pass over
+// the Gaussians per keyframe, no allocation per Gaussian.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/config/mapping_components.hpp"
+#include "mapping/gaussian_map.hpp"
+#include "mapping/render_camera.hpp"
+
+namespace vigs::mapping {
+
+using config::SeeThroughSettings;  // defaults: core/config/mapping_components.hpp
+
+class SeeThrough {
+ public:
+  explicit SeeThrough(SeeThroughSettings s = {}) : s_(s) {}
+
+  /// Votes of one keyframe (camera `cam`, depth_m 1 per pixel: > 0 measured, 0 missing, < 0
+  /// moving) for every Gaussian of `map`. Gaussians appended to the map since the last call
+  /// start with no votes. keep[i] = 0 for the Gaussians to prune now (their votes meet the
+  /// rule); returns how many. The caller removes them from the map and calls compact(keep).
+  std::size_t vote(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
+                   std::vector<char>& keep);
+
+  /// Keeps the counts of the Gaussians whose keep[i] is non-zero, as GaussianParams::compact.
+  void compact(const std::vector<char>& keep);
+
+  [[nodiscard]] std::uint16_t through(std::size_t i) const { return through_[i]; }
+  [[nodiscard]] std::uint16_t seen(std::size_t i) const { return seen_[i]; }
+  [[nodiscard]] std::size_t size() const { return through_.size(); }
+  /// Bytes held (capacity of the counts).
+  [[nodiscard]] std::size_t bytes() const {
+    return (through_.capacity() + seen_.capacity()) * sizeof(std::uint16_t);
+  }
+  [[nodiscard]] const SeeThroughSettings& settings() const { return s_; }
+
+ private:
+  SeeThroughSettings s_;
+  std::vector<std::uint16_t> through_, seen_;
+};
+
+}  // namespace vigs::mapping
