@@ -107,9 +107,11 @@ void Mapper::insert_far_field(const MapperKeyframe& kf, bool rendered) {
   if (kf.camera.width_px <= 0 || kf.rgb.empty()) return;
   const FarFieldView view{kf.camera, kf.rgb.data(),
                           kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
+  const std::size_t first = map_.size();
   far_.add(mapping::insert_far_field(map_, view, rendered ? &gate_render_ : nullptr, s_.far_field,
                                      s_.insert.cover, s_.insert.opacity, gate_.max_alpha,
                                      0.9 * s_.prune.max_scale_m));
+  if (s_.see_through.enabled) seen_through_.mark_far(first, map_.size());
 }
 
 }  // namespace vigs::mapping

@@ -22,9 +22,11 @@ std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, co
   if (through_.size() > n) {  // the map lost Gaussians without compact(): counts are stale
     through_.clear();
     seen_.clear();
+    far_.clear();
   }
   through_.resize(n, 0);  // Gaussians appended since the last vote start with none
   seen_.resize(n, 0);
+  far_.resize(n, 0);
   keep.assign(n, 1);
   if (!depth_m || cam.width_px < 3 || cam.height_px < 3) return 0;
   const int w = cam.width_px, h = cam.height_px;
@@ -45,22 +47,27 @@ std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, co
     const int uc = static_cast<int>(std::lround(u)), vc = static_cast<int>(std::lround(v));
     const double margin = s_.margin_m + s_.margin_per_m * z;
     const double far_z = z + margin;
-    bool all_behind = true, measured = true;
-    for (int dv = -1; dv <= 1 && measured; ++dv) {
+    // a far-field Gaussian stands for "no depth here": a missing pixel agrees with it
+    const bool far = far_[i] != 0;
+    const bool missing_far = s_.missing_far && !far;
+    bool all_behind = true, votes = true;
+    for (int dv = -1; dv <= 1 && votes; ++dv) {
       const float* row = depth_m + static_cast<std::size_t>(vc + dv) * w + uc;
       for (int du = -1; du <= 1; ++du) {
         const float d = row[du];
-        if (!(d > 0.0f)) {  // missing (0, NaN) or moving (< 0): no vote
-          measured = false;
+        if (d < 0.0f || (!(d > 0.0f) && !missing_far && !far)) {  // moving, or missing
+          votes = false;
           break;
         }
-        if (!(d > far_z)) all_behind = false;
+        // missing: beyond the range, so behind (missing_far), or the far Gaussian's own "far"
+        if (d > 0.0f ? !(d > far_z) : far) all_behind = false;
       }
     }
-    if (!measured) continue;
+    if (!votes) continue;
+    const float d_c = depth_m[static_cast<std::size_t>(vc) * w + uc];
     if (all_behind) {
       add_one(through_[i]);
-    } else if (std::abs(depth_m[static_cast<std::size_t>(vc) * w + uc] - z) <= margin) {
+    } else if (d_c > 0.0f ? std::abs(d_c - z) <= margin : far) {
       add_one(seen_[i]);
     } else {
       continue;  // hidden behind a nearer surface, or at an edge: no vote
@@ -81,10 +88,21 @@ void SeeThrough::compact(const std::vector<char>& keep) {
     if (!keep[i]) continue;
     through_[out] = through_[i];
     seen_[out] = seen_[i];
+    far_[out] = far_[i];
     ++out;
   }
   through_.resize(out);
   seen_.resize(out);
+  far_.resize(out);
+}
+
+void SeeThrough::mark_far(std::size_t first, std::size_t last) {
+  if (last > through_.size()) {
+    through_.resize(last, 0);
+    seen_.resize(last, 0);
+    far_.resize(last, 0);
+  }
+  for (std::size_t i = first; i < last; ++i) far_[i] = 1;
 }
 
 }  // namespace vigs::mapping

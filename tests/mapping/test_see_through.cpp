@@ -30,7 +30,9 @@ void add_gaussian(GaussianMap& map, double x, double y, double z, double opacity
   map.push_back(mean, ls, q, static_cast<float>(std::log(opacity / (1.0 - opacity))), rgb);
 }
 
-std::vector<float> flat_depth(float z) { return std::vector<float>(kW * kH, z); }
+std::vector<float> flat_depth(float z) {
+  return std::vector<float>(kW * kH, z);
+}
 
 TEST(SeeThrough, PrunesWhatTwoKeyframesSeeThrough) {
   GaussianMap map;
@@ -70,7 +72,7 @@ TEST(SeeThrough, MarginGrowsWithDepth) {
   EXPECT_EQ(growing.seen(0), 1);
 }
 
-TEST(SeeThrough, MovingMissingAndEdgePixelsDoNotVote) {
+TEST(SeeThrough, MovingAndEdgePixelsDoNotVote) {
   GaussianMap map;
   add_gaussian(map, 0.0, 0.0, 1.5);
   const RenderCamera cam = camera();
@@ -78,13 +80,36 @@ TEST(SeeThrough, MovingMissingAndEdgePixelsDoNotVote) {
   SeeThroughSettings s;
   s.min_count = 1;
   std::vector<char> keep;
-  for (const float mark : {-1.0f, 0.0f, 1.0f}) {
+  for (const float mark : {-1.0f, 1.0f}) {
     std::vector<float> d = flat_depth(3.0f);
-    d[static_cast<std::size_t>(vc + 1) * kW + uc - 1] = mark;  // one neighbour: moving,
-    SeeThrough st(s);  // missing, or a nearer surface (a depth edge beside the Gaussian)
+    d[static_cast<std::size_t>(vc + 1) * kW + uc - 1] = mark;  // one neighbour: moving, or a
+    SeeThrough st(s);  // nearer surface (a depth edge beside the Gaussian)
     EXPECT_EQ(st.vote(map, cam, d.data(), keep), 0u) << "mark " << mark;
     EXPECT_EQ(st.through(0), 0);
   }
+}
+
+TEST(SeeThrough, MissingDepthIsFarExceptForFarFieldGaussians) {
+  GaussianMap map;
+  add_gaussian(map, 0.0, 0.0, 1.5);   // 0: a ghost before a corridor's end without depth
+  add_gaussian(map, 0.0, 0.0, 15.0);  // 1: a far-field disc standing for it
+  std::vector<float> d = flat_depth(0.0f);
+  SeeThroughSettings s;
+  s.min_count = 1;
+  std::vector<char> keep;
+  SeeThrough st(s);
+  st.mark_far(1, 2);
+  EXPECT_EQ(st.vote(map, camera(), d.data(), keep), 1u);
+  EXPECT_EQ(keep, (std::vector<char>{0, 1}));
+  EXPECT_EQ(st.seen(1), 1);  // the disc agrees with "no depth"
+  s.missing_far = false;     // off: a pixel without depth does not vote
+  SeeThrough unknown(s);
+  unknown.mark_far(1, 2);
+  EXPECT_EQ(unknown.vote(map, camera(), d.data(), keep), 0u);
+  EXPECT_EQ(unknown.through(0) + unknown.seen(0), 0);
+  // a far disc that a later view sees a surface well behind is seen through as any other
+  d = flat_depth(25.0f);
+  EXPECT_EQ(unknown.vote(map, camera(), d.data(), keep), 2u);
 }
 
 TEST(SeeThrough, KeepsWhatMostViewsSeeOnTheSurface) {

@@ -13,7 +13,9 @@ namespace {
 
 constexpr int kW = 60, kH = 40;
 // a person: pixels [20, 30) x [10, 30) at 1.5 m, before a wall at 3 m
-bool in_person(int u, int v) { return u >= 20 && u < 30 && v >= 10 && v < 30; }
+bool in_person(int u, int v) {
+  return u >= 20 && u < 30 && v >= 10 && v < 30;
+}
 
 struct Scene {
   PinholeCamera camera{kW, kH, 40.0, 40.0, 29.5, 19.5};
@@ -24,8 +26,8 @@ struct Scene {
 Scene make_scene(int stride) {
   Scene s;
   for (int v = 0; v < kH; ++v)
-    for (int u = 0; u < kW; ++u) s.depth.data[static_cast<std::size_t>(v) * kW + u] =
-          in_person(u, v) ? 1.5f : 3.0f;
+    for (int u = 0; u < kW; ++u)
+      s.depth.data[static_cast<std::size_t>(v) * kW + u] = in_person(u, v) ? 1.5f : 3.0f;
   config::DepthToPointsSetting ds;
   ds.pixel_stride = stride;
   tracking::DepthToPoints d2p(s.camera, ds);

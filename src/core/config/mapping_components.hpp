@@ -56,6 +56,7 @@ struct SeeThroughSettings {
   double margin_per_m = 0.03;  ///< ...plus this per metre of the Gaussian's depth
   int min_count = 2;           ///< keyframes that must see through a Gaussian to prune it
   double min_fraction = 0.5;   ///< and at least this share of the keyframes that vote on it
+  bool missing_far = true;     ///< a pixel without depth is beyond the range (far), not unknown
 };
 
 /// Pixels of the points the tracker flagged moving (pipeline/moving_pixels.hpp): masked out of

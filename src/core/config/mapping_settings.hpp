@@ -66,8 +66,11 @@ struct MappingSettings {
             {"keyframes", 1, 1000, "keyframes that must see through a Gaussian to prune it"});
     v.field("see_through_min_fraction", see_through.min_fraction,
             {"-", 0.0, 1.0,
-             "and at least this share of the keyframes that measured its pixel (seen through or "
-             "seen on the surface)"});
+             "and at least this share of the keyframes that voted on it (seen through or seen "
+             "on the surface)"});
+    v.field("see_through_missing_far", see_through.missing_far,
+            "for the see-through vote a pixel without depth is beyond the depth range (a "
+            "corridor's end, as the far field takes it); off: such pixels do not vote");
     v.field("moving_mask", moving_mask.enabled,
             "pixels of the points the tracker flagged moving are neither colour nor depth "
             "targets of the keyframe's training view, nor far field");
