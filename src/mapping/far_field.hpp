@@ -13,8 +13,10 @@
 // bound) the plane comes closer, to the depth where it does not: sparse far Gaussians must not
 // leave holes between them.
 // Being gated by the render, a revisit adds far Gaussians only where the map is still empty.
-// Pixels of moving objects (negative depth, pipeline/moving_pixels.hpp) count as having depth: a
-// person's pixel is not far away.
+// Pixels of moving objects (negative depth, pipeline/moving_pixels.hpp) give no colour (a
+// person's pixel is not far away), but count with the pixels without depth towards the block's
+// half: what lies behind a person is unknown, and a person before a corridor's far end must not
+// leave the block black.
 #include <cstddef>
 
 #include "core/config/mapping_components.hpp"

@@ -70,6 +70,9 @@ void Mapper::tick() {
       eos_.store(true);
       continue;
     }
+    // see-through votes first: what they prune leaves room that this keyframe's points and far
+    // field fill at once (the gate's render below no longer shows it)
+    prune_seen_through(*kf);
     const std::vector<char>* keep = nullptr;
     if (map_.size() > 0 && kf->camera.width_px > 0) {
       optimizer_.rasterizer().forward(map_, kf->camera, gate_render_);
@@ -80,7 +83,6 @@ void Mapper::tick() {
     }
     inserter_.insert(map_, kf->gaussians, keep);
     insert_far_field(*kf, keep != nullptr);
-    prune_seen_through(*kf);
     kf->gaussians = KeyframeGaussians{};  // points are in the map now; keep only the view
     if (keyframes_.size() == max_keyframes_) keyframes_.erase(keyframes_.begin());
     keyframes_.push_back(std::move(kf));

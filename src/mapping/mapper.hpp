@@ -11,9 +11,10 @@
 //
 // Insertion: a keyframe's points are first gated against a render of the map from the
 // keyframe's camera (insertion_gate.hpp: only where the map is missing or wrong), then inserted;
-// pixels without depth where that render is empty get far Gaussians (far_field.hpp). Then the
-// keyframe votes on every Gaussian of the map, and those it and earlier keyframes saw through
-// are pruned (see_through.hpp, mapping.see_through_*). A keyframe's depth may mark pixels of
+// pixels without depth where that render is empty get far Gaussians (far_field.hpp). Before
+// that, the keyframe votes on every Gaussian of the map, and those it and earlier keyframes saw
+// through are pruned (see_through.hpp, mapping.see_through_*), so that the keyframe fills what
+// they leave. A keyframe's depth may mark pixels of
 // moving objects with -1 (pipeline/moving_pixels.hpp): neither loss nor far field nor the vote
 // uses them.
 //

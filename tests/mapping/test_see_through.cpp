@@ -196,6 +196,20 @@ TEST(MovingMask, FarFieldSkipsMovingPixels) {
   EXPECT_EQ(all, static_cast<std::size_t>((kW / 5) * (kH / 5)));
   std::fill(depth.begin(), depth.end(), -1.0f);  // a person in front of the whole view
   EXPECT_EQ(insert_far_field(map, view, nullptr, s, 0.7, 0.9, 0.45, 0.45), 0u);
+  // a person's pixels (red) beside pixels without depth (grey): a disc of the grey alone
+  std::fill(depth.begin(), depth.end(), 0.0f);
+  for (std::size_t p = 0; p < depth.size(); ++p) {
+    if (p % kW >= 5 || p / kW >= 5) continue;  // the first block, where 3 of 5 columns ...
+    if (p % kW < 3) {
+      depth[p] = -1.0f;  // ... are a person
+      rgb[3 * p] = 1.0f;
+    }
+  }
+  for (std::size_t p = 0; p < depth.size(); ++p)
+    if (p % kW >= 5 || p / kW >= 5) depth[p] = 2.0f;  // the other blocks: a wall
+  GaussianMap one;
+  ASSERT_EQ(insert_far_field(one, view, nullptr, s, 0.7, 0.9, 0.45, 0.45), 1u);
+  EXPECT_FLOAT_EQ(one.color_rgb[0], 0.4f);
 }
 
 /// A keyframe at the origin, its depth `depth_m`, with no points (the map's content is given).
