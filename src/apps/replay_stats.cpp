@@ -64,6 +64,7 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
     s["map_budget_overruns"] = r.map_budget_overruns;
     s["map_bytes_per_gaussian"] = num(r.map_bytes_per_gaussian);
     s["map_gated_points"] = r.map_gated_points;
+    s["map_seen_through_pruned"] = r.map_seen_through_pruned;
   }
   return s;
 }

@@ -30,25 +30,30 @@ std::size_t insert_far_field(GaussianMap& map, const FarFieldView& view,
                           static_cast<float>(std::log(0.1 * std::min(sd_x, sd_y)))};
   const double op = std::clamp(opacity, 0.01, 0.99);
   const float logit = static_cast<float>(std::log(op / (1.0 - op)));
+  // a negative depth marks a moving object's pixel: not "no depth, far away" (no colour is
+  // taken from it), but what lies behind it is unknown, so it does not keep a block whose other
+  // pixels have no depth from its far Gaussian (a person before a corridor's far end)
   auto missing = [&](std::size_t p) {
-    return !view.depth_m || !(std::isfinite(view.depth_m[p]) && view.depth_m[p] > 0.0f);
+    return !view.depth_m || !(std::isfinite(view.depth_m[p]) && view.depth_m[p] != 0.0f);
   };
+  auto moving = [&](std::size_t p) { return view.depth_m && view.depth_m[p] < 0.0f; };
   std::size_t added = 0;
   for (int v0 = 0; v0 < h; v0 += st) {
     for (int u0 = 0; u0 < w; u0 += st) {
       const int u1 = std::min(w, u0 + st), v1 = std::min(h, v0 + st);
       double rgb[3] = {0, 0, 0}, alpha = 0;
-      int n = 0;
+      int n = 0, n_moving = 0;
       for (int v = v0; v < v1; ++v) {
         for (int u = u0; u < u1; ++u) {
           const std::size_t p = static_cast<std::size_t>(v) * w + u;
+          if (moving(p)) ++n_moving;
           if (!missing(p)) continue;
           for (int c = 0; c < 3; ++c) rgb[c] += view.rgb[3 * p + c];
           if (gated) alpha += render->alpha(static_cast<int>(p));
           ++n;
         }
       }
-      if (2 * n < (u1 - u0) * (v1 - v0)) continue;
+      if (n == 0 || 2 * (n + n_moving) < (u1 - u0) * (v1 - v0)) continue;
       if (gated && alpha > max_alpha * op * n) continue;
       // the block's centre (pixel centres at integer coordinates)
       const double uc = 0.5 * (u0 + u1 - 1), vc = 0.5 * (v0 + v1 - 1);

@@ -13,6 +13,10 @@
 // bound) the plane comes closer, to the depth where it does not: sparse far Gaussians must not
 // leave holes between them.
 // Being gated by the render, a revisit adds far Gaussians only where the map is still empty.
+// Pixels of moving objects (negative depth, pipeline/moving_pixels.hpp) give no colour (a
+// person's pixel is not far away), but count with the pixels without depth towards the block's
+// half: what lies behind a person is unknown, and a person before a corridor's far end must not
+// leave the block black.
 #include <cstddef>
 
 #include "core/config/mapping_components.hpp"
@@ -27,7 +31,7 @@ using config::FarFieldSettings;  // defaults: core/config/mapping_components.hpp
 struct FarFieldView {
   RenderCamera camera;
   const float* rgb = nullptr;      ///< 3 per pixel, [0, 1]
-  const float* depth_m = nullptr;  ///< 1 per pixel, 0 (or not finite) = missing
+  const float* depth_m = nullptr;  ///< 1 per pixel, 0 (or not finite) = missing, < 0 = moving
 };
 
 /// Appends the view's far Gaussians to `map`; returns how many. `render` (the map rendered from

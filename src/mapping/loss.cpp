@@ -1,5 +1,6 @@
 #include "mapping/loss.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vigs::mapping {
@@ -14,15 +15,21 @@ LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* tar
   const std::size_t np = static_cast<std::size_t>(r.width) * r.height;
   const T lam = T(s_.lambda_ssim), lam_d = T(s_.lambda_depth);
   const T* mask = nullptr;
+  const T* ssim_mask = nullptr;
   std::size_t n_mask = np;
   if (target_depth_m) {
     mask_.resize(np);
     n_mask = 0;
+    bool moving = false;
     for (std::size_t i = 0; i < np; ++i) {
-      mask_[i] = color_without_depth_ || target_depth_m[i] > T(0) ? T(1) : T(0);
+      // depth < 0: a moving object (a person) stood there; neither colour nor depth is a target
+      const T d = target_depth_m[i];
+      moving = moving || d < T(0);
+      mask_[i] = d > T(0) || (color_without_depth_ && !(d < T(0))) ? T(1) : T(0);
       n_mask += mask_[i] > T(0) ? 1 : 0;
     }
     mask = mask_.data();
+    ssim_mask = moving ? without_moving_windows(target_depth_m, r.width, r.height) : mask;
   }
   LossTerms<T> out;
   // L1 colour
@@ -42,7 +49,7 @@ LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* tar
   out.l1_color = T(l1) * inv_c;
   // SSIM
   if (v_color) ssim_grad_.resize(3 * np);
-  out.ssim = ssim_.evaluate(r.color.data(), target_rgb, r.width, r.height, 3, mask,
+  out.ssim = ssim_.evaluate(r.color.data(), target_rgb, r.width, r.height, 3, ssim_mask,
                             v_color ? ssim_grad_.data() : nullptr);
   if (v_color)
     for (std::size_t i = 0; i < 3 * np; ++i) v_color[i] -= lam * ssim_grad_[i];
@@ -62,6 +69,40 @@ LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* tar
   }
   out.total = (T(1) - lam) * out.l1_color + lam * (T(1) - out.ssim) + lam_d * out.l1_depth_m;
   return out;
+}
+
+// SSIM windows are excluded when any of their pixels is moving, not only their centre: the
+// gradient of a window reaches all of its pixels, and a moving pixel must get none. A running
+// count over rows, then over columns (Chebyshev distance <= the window's half-width).
+template <class T>
+const T* PhotometricLoss<T>::without_moving_windows(const T* target_depth_m, int width,
+                                                    int height) {
+  const int half = static_cast<int>(ssim_window_1d(SsimOptions{}.window).size() / 2);
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  near_moving_.assign(np, 0);
+  for (int v = 0; v < height; ++v) {
+    const T* d = target_depth_m + static_cast<std::size_t>(v) * width;
+    unsigned char* out = near_moving_.data() + static_cast<std::size_t>(v) * width;
+    int count = 0;  // moving pixels in [u - half, u + half] of this row
+    for (int u = 0; u < std::min(half, width); ++u) count += d[u] < T(0) ? 1 : 0;
+    for (int u = 0; u < width; ++u) {
+      if (u + half < width) count += d[u + half] < T(0) ? 1 : 0;
+      if (u - half - 1 >= 0) count -= d[u - half - 1] < T(0) ? 1 : 0;
+      out[u] = count > 0 ? 1 : 0;
+    }
+  }
+  ssim_mask_.assign(mask_.begin(), mask_.end());
+  for (int u = 0; u < width; ++u) {
+    auto at = [&](int v) { return near_moving_[static_cast<std::size_t>(v) * width + u]; };
+    int count = 0;
+    for (int v = 0; v < std::min(half, height); ++v) count += at(v);
+    for (int v = 0; v < height; ++v) {
+      if (v + half < height) count += at(v + half);
+      if (v - half - 1 >= 0) count -= at(v - half - 1);
+      if (count > 0) ssim_mask_[static_cast<std::size_t>(v) * width + u] = T(0);
+    }
+  }
+  return ssim_mask_.data();
 }
 
 template class PhotometricLoss<float>;

@@ -1,7 +1,10 @@
 #pragma once
 // Training loss of the map: (1 - lambda) L1(colour) + lambda (1 - SSIM) + lambda_D L1(depth).
 // Colour terms are masked where the target depth is missing (when a target depth is given),
-// unless color_without_depth (set with the far field); the depth term always is;
+// unless color_without_depth (set with the far field); the depth term always is. A negative
+// target depth marks a moving object's pixel (pipeline/moving_pixels.hpp): every term is masked
+// there, also with color_without_depth, and SSIM leaves out every window that holds such a
+// pixel (its gradient would reach the pixel);
 // SSIM uses the 11x11 Gaussian window (sigma 1.5) over valid windows, with its analytic
 // gradient.
 #include <vector>
@@ -30,7 +33,8 @@ class PhotometricLoss {
   explicit PhotometricLoss(LossSettings s = {}, rt::WorkerTeam* pool = nullptr,
                            bool color_without_depth = false);
 
-  /// target_rgb: 3 per pixel in [0, 1]; target_depth_m: 1 per pixel, 0 = missing, may be null.
+  /// target_rgb: 3 per pixel in [0, 1]; target_depth_m: 1 per pixel, 0 = missing, < 0 = moving
+  /// (masked), may be null.
   /// Writes dL/d(colour) and dL/d(depth) (sizes 3 and 1 per pixel) when they are not null.
   LossTerms<T> evaluate(const RenderResult<T>& r, const T* target_rgb, const T* target_depth_m,
                         T* v_color, T* v_depth);
@@ -38,10 +42,14 @@ class PhotometricLoss {
   [[nodiscard]] const LossSettings& settings() const { return s_; }
 
  private:
+  /// mask_ without the SSIM windows that hold a moving pixel (ssim_mask_).
+  const T* without_moving_windows(const T* target_depth_m, int width, int height);
+
   LossSettings s_;
   bool color_without_depth_;
   Ssim<T> ssim_;
-  std::vector<T> mask_, ssim_grad_;
+  std::vector<T> mask_, ssim_mask_, ssim_grad_;
+  std::vector<unsigned char> near_moving_;
 };
 
 extern template class PhotometricLoss<float>;

@@ -52,7 +52,11 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
 }
 
 std::size_t MapOptimizer::prune(GaussianMap& map) {
-  const auto keep = prune_keep_mask(map, s_.prune);
+  prune_keep_ = prune_keep_mask(map, s_.prune);
+  return remove(map, prune_keep_);
+}
+
+std::size_t MapOptimizer::remove(GaussianMap& map, const std::vector<char>& keep) {
   adam_.compact(keep);
   return map.compact(keep);
 }

@@ -34,8 +34,13 @@ class MapOptimizer {
   LossTerms<float> iterate(GaussianMap& map, const TrainingView& view,
                            std::size_t* pruned = nullptr);
 
-  /// Removes Gaussians from the map and the optimiser state; returns the count removed.
+  /// Removes Gaussians from the map and the optimiser state; returns the count removed. The
+  /// mask it used stays readable (last_prune_keep()) for state kept beside the map.
   std::size_t prune(GaussianMap& map);
+  /// Removes the Gaussians whose keep[i] is 0 from the map and the optimiser state.
+  std::size_t remove(GaussianMap& map, const std::vector<char>& keep);
+  /// The keep mask of the last prune() (one per Gaussian before it).
+  [[nodiscard]] const std::vector<char>& last_prune_keep() const { return prune_keep_; }
 
   /// Bytes per Gaussian held for `map` (parameters + gradients + moments + caches).
   [[nodiscard]] double bytes_per_gaussian(const GaussianMap& map) const;
@@ -52,6 +57,7 @@ class MapOptimizer {
   Adam adam_;
   RenderResult<float> render_;
   std::vector<float> v_color_, v_depth_;
+  std::vector<char> prune_keep_;
   long iterations_ = 0;
 };
 

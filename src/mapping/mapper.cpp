@@ -16,7 +16,8 @@ Mapper::Mapper(const config::MappingSettings& s, KeyframeRing& ring, rt::WorkerT
       inserter_(s.insert),
       optimizer_(s, pool),
       now_ns_(&rt::monotonic_ns),
-      budget_ns_(static_cast<std::int64_t>(s.budget_ms * 1e6 + 0.5)) {}
+      budget_ns_(static_cast<std::int64_t>(s.budget_ms * 1e6 + 0.5)),
+      seen_through_(s.see_through) {}
 
 std::size_t Mapper::next_view() {
   if (newest_pending_) {
@@ -45,7 +46,7 @@ void Mapper::iterate_once() {
                           kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
   std::size_t pruned = 0;
   const auto terms = optimizer_.iterate(map_, view, &pruned);
-  if (pruned > 0) inserter_.rebuild(map_);
+  if (pruned > 0) after_prune();
   last_id_.store(kf.id);
   last_loss_.store(terms.total);
   iterations_.add(1);
@@ -69,6 +70,9 @@ void Mapper::tick() {
       eos_.store(true);
       continue;
     }
+    // see-through votes first: what they prune leaves room that this keyframe's points and far
+    // field fill at once (the gate's render below no longer shows it)
+    prune_seen_through(*kf);
     const std::vector<char>* keep = nullptr;
     if (map_.size() > 0 && kf->camera.width_px > 0) {
       optimizer_.rasterizer().forward(map_, kf->camera, gate_render_);
@@ -105,9 +109,37 @@ void Mapper::insert_far_field(const MapperKeyframe& kf, bool rendered) {
   if (kf.camera.width_px <= 0 || kf.rgb.empty()) return;
   const FarFieldView view{kf.camera, kf.rgb.data(),
                           kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
+  const std::size_t first = map_.size();
   far_.add(mapping::insert_far_field(map_, view, rendered ? &gate_render_ : nullptr, s_.far_field,
                                      s_.insert.cover, s_.insert.opacity, gate_.max_alpha,
                                      0.9 * s_.prune.max_scale_m));
+  if (s_.see_through.enabled) seen_through_.mark_far(first, map_.size());
+}
+
+}  // namespace vigs::mapping
+
+namespace vigs::mapping {
+
+void Mapper::after_prune() {
+  inserter_.rebuild(map_);
+  if (s_.see_through.enabled) seen_through_.compact(optimizer_.last_prune_keep());
+}
+
+void Mapper::prune_seen_through(const MapperKeyframe& kf) {
+  if (!s_.see_through.enabled || kf.depth_m.empty() || kf.camera.width_px <= 0) return;
+  const std::size_t condemned =
+      seen_through_.vote(map_, kf.camera, kf.depth_m.data(), see_through_keep_);
+  if (condemned == 0) return;
+  optimizer_.remove(map_, see_through_keep_);
+  seen_through_.compact(see_through_keep_);
+  inserter_.rebuild(map_);
+  seen_through_pruned_.add(condemned);
+}
+
+double Mapper::bytes_per_gaussian() const {
+  if (map_.size() == 0) return 0.0;
+  return optimizer_.bytes_per_gaussian(map_) +
+         static_cast<double>(seen_through_.bytes()) / static_cast<double>(map_.size());
 }
 
 }  // namespace vigs::mapping

@@ -11,7 +11,12 @@
 //
 // Insertion: a keyframe's points are first gated against a render of the map from the
 // keyframe's camera (insertion_gate.hpp: only where the map is missing or wrong), then inserted;
-// pixels without depth where that render is empty get far Gaussians (far_field.hpp).
+// pixels without depth where that render is empty get far Gaussians (far_field.hpp). Before
+// that, the keyframe votes on every Gaussian of the map, and those it and earlier keyframes saw
+// through are pruned (see_through.hpp, mapping.see_through_*), so that the keyframe fills what
+// they leave. A keyframe's depth may mark pixels of
+// moving objects with -1 (pipeline/moving_pixels.hpp): neither loss nor far field nor the vote
+// uses them.
 //
 // Keyframe queue policy (see rt/spsc_ring.hpp): at most `max_pending` unprocessed keyframes are
 // kept; older extra ones are skipped and counted (skipped_keyframes). A keyframe with
@@ -31,6 +36,7 @@
 #include "mapping/insertion.hpp"
 #include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
+#include "mapping/see_through.hpp"
 #include "rt/counters.hpp"
 #include "rt/spsc_ring.hpp"
 
@@ -42,7 +48,7 @@ struct MapperKeyframe {
   KeyframeGaussians gaussians;
   RenderCamera camera;         ///< intrinsics and pose of the view
   std::vector<float> rgb;      ///< 3 per pixel, [0, 1]
-  std::vector<float> depth_m;  ///< 1 per pixel, 0 = missing
+  std::vector<float> depth_m;  ///< 1 per pixel, 0 = missing, < 0 = moving (masked)
   bool end_of_stream = false;
 };
 using KeyframeRing = rt::SpscRing<std::unique_ptr<MapperKeyframe>>;
@@ -70,7 +76,7 @@ class Mapper {
   [[nodiscard]] const GaussianMap& map() const { return map_; }  ///< mapper thread only
   /// Memory per Gaussian of the map and its optimiser (MapOptimizer::bytes_per_gaussian);
   /// mapper thread only.
-  [[nodiscard]] double bytes_per_gaussian() const { return optimizer_.bytes_per_gaussian(map_); }
+  [[nodiscard]] double bytes_per_gaussian() const;
   [[nodiscard]] bool end_of_stream() const noexcept { return eos_.load(); }
   [[nodiscard]] std::uint64_t keyframes_ingested() const noexcept { return ingested_.get(); }
   [[nodiscard]] std::uint64_t skipped_keyframes() const noexcept { return skipped_.get(); }
@@ -85,12 +91,20 @@ class Mapper {
   [[nodiscard]] std::uint64_t gated_points() const noexcept { return gated_.get(); }
   /// Far-field Gaussians inserted (far_field.hpp).
   [[nodiscard]] std::uint64_t far_gaussians() const noexcept { return far_.get(); }
+  /// Gaussians pruned because keyframes saw through them (see_through.hpp).
+  [[nodiscard]] std::uint64_t seen_through_pruned() const noexcept {
+    return seen_through_pruned_.get();
+  }
 
  private:
   std::size_t next_view();
   void iterate_once();
   /// Far Gaussians of `kf` where it has no depth, gated by gate_render_ when `rendered`.
   void insert_far_field(const MapperKeyframe& kf, bool rendered);
+  /// The keyframe's see-through votes; prunes what they condemn.
+  void prune_seen_through(const MapperKeyframe& kf);
+  /// After the optimiser pruned: the occupancy and the see-through counts follow the map.
+  void after_prune();
   [[nodiscard]] bool keep_iterating(int done, std::int64_t t0_ns, std::int64_t allowance_ns);
 
   config::MappingSettings s_;
@@ -114,8 +128,11 @@ class Mapper {
   GateSettings gate_;
   RenderResult<float> gate_render_;
   std::vector<char> gate_keep_;
+  SeeThrough seen_through_;
+  std::vector<char> see_through_keep_;
   std::int64_t carry_ns_ = 0;  ///< <= 0: overrun still to be taken from the next ticks
-  rt::SingleWriterCounter ingested_, skipped_, iterations_, overruns_, gated_, far_;
+  rt::SingleWriterCounter ingested_, skipped_, iterations_, overruns_, gated_, far_,
+      seen_through_pruned_;
 };
 
 }  // namespace vigs::mapping

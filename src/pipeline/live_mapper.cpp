@@ -1,6 +1,9 @@
 #include "pipeline/live_mapper.hpp"
 
+#include <algorithm>
+
 #include "core/types/image.hpp"
+#include "pipeline/moving_pixels.hpp"
 #include "pipeline/pool_frame_view.hpp"
 #include "pipeline/tracking_keyframe.hpp"
 #include "rt/clock.hpp"
@@ -9,9 +12,11 @@ namespace vigs::pipeline {
 
 LiveMapper::LiveMapper(const config::MappingSettings& s, const PinholeCamera& camera,
                        float depth_scale_m, rt::FramePool& pool, KeyframeHandoff& handoff,
-                       const rt::ThreadSpec& worker_spec)
+                       const rt::ThreadSpec& worker_spec, int tracker_pixel_stride)
     : camera_(camera),
       depth_scale_m_(depth_scale_m),
+      moving_mask_(s.moving_mask),
+      stride_px_(std::max(1, tracker_pixel_stride)),
       pool_(pool),
       handoff_(handoff),
       team_(s.threads, worker_spec),
@@ -35,6 +40,8 @@ void LiveMapper::tick() {
     ImageF32 depth_m;
     copy_rgb8(view, rgb);
     copy_depth_m(view, depth_m);
+    if (moving_mask_.enabled)
+      mask_moving_pixels(slot.keyframe, camera_, stride_px_, moving_mask_.dilation_px, depth_m);
     auto m = std::make_unique<mapping::MapperKeyframe>();
     m->id = next_id_++;
     m->gaussians = to_keyframe_gaussians(slot.keyframe);

@@ -2,7 +2,8 @@
 // LiveMapper: the body of the live pipeline's `mapper` task (rt::PeriodicTask at
 // mapping.rate_hz, SCHED_OTHER). Each tick takes the keyframes the tracker queued in the
 // KeyframeHandoff, turns each into a mapping::MapperKeyframe (its Gaussians from the tracker's
-// raw covariances, the frame as training view; this allocates, on the mapper thread), releases
+// raw covariances, the frame as training view with the pixels of the points the tracker flagged
+// moving masked out, moving_pixels.hpp; this allocates, on the mapper thread), releases
 // the frame and the slot, and runs one mapping::Mapper tick of mapping.iterations_per_tick
 // optimisation iterations, or as many as mapping.budget_ms allows when it is > 0 (the
 // Mapper's budgeted tick). The tracker never waits for it except in lockstep, where a keyframe
@@ -23,8 +24,10 @@ namespace vigs::pipeline {
 class LiveMapper {
  public:
   /// `worker_spec`: the thread table's mapper_w1 with the rt policy applied.
+  /// `tracker_pixel_stride`: the stride the keyframes' points were sampled at.
   LiveMapper(const config::MappingSettings& s, const PinholeCamera& camera, float depth_scale_m,
-             rt::FramePool& pool, KeyframeHandoff& handoff, const rt::ThreadSpec& worker_spec);
+             rt::FramePool& pool, KeyframeHandoff& handoff, const rt::ThreadSpec& worker_spec,
+             int tracker_pixel_stride);
 
   /// The task body (mapper thread only).
   void tick();
@@ -40,6 +43,8 @@ class LiveMapper {
  private:
   PinholeCamera camera_;
   float depth_scale_m_;
+  config::MovingMaskSettings moving_mask_;
+  int stride_px_;
   rt::FramePool& pool_;
   KeyframeHandoff& handoff_;
   rt::WorkerTeam team_;

@@ -196,7 +196,8 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   std::unique_ptr<rt::PeriodicTask> mapper_task;
   if (o.mapping) {
     mapper = std::make_unique<LiveMapper>(cfg.mapping, camera, depth_scale_m, pool, *handoff,
-                                          table_spec("mapper_w1", rtc));
+                                          table_spec("mapper_w1", rtc),
+                                          cfg.tracking.preprocess.depth.pixel_stride);
     rt::ThreadSpec mapper_spec = table_spec("mapper", rtc);
     mapper_spec.period_ns = period_ns(cfg.mapping.rate_hz);
     mapper_task = std::make_unique<rt::PeriodicTask>(mapper_spec, [&m = *mapper] { m.tick(); });

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "mapping/rgbd_keyframe.hpp"
+#include "pipeline/moving_pixels.hpp"
 #include "pipeline/tracking_keyframe.hpp"
 
 namespace vigs::pipeline {
@@ -20,6 +21,7 @@ config::MappingSettings with_schedule(config::MappingSettings s, int iterations_
 LockstepMapper::LockstepMapper(const config::MappingSettings& s, const PinholeCamera& camera,
                                int iterations_per_frame, double budget_ms, int tracker_pixel_stride)
     : camera_(camera),
+      moving_mask_(s.moving_mask),
       stride_px_(std::max(1, tracker_pixel_stride)),
       sample_angle_rad_(2.0 * stride_px_ / (camera.fx_px + camera.fy_px)),
       pool_(s.threads, rt::ThreadSpec{.name = "mapper_w1"}),
@@ -63,6 +65,9 @@ bool LockstepMapper::add_keyframe(const tracking::Keyframe& kf) {
 void LockstepMapper::add(const tracking::Keyframe& kf, const ImageU8& rgb, ImageF32 depth_m) {
   auto m = std::make_unique<mapping::MapperKeyframe>();
   m->id = next_id_++;
+  // the people's pixels first, so that they give no colour to the points beside them either
+  if (moving_mask_.enabled)
+    mask_moving_pixels(kf, camera_, stride_px_, moving_mask_.dilation_px, depth_m);
   m->gaussians = to_keyframe_gaussians(kf, sample_angle_rad_);
   mapping::footprint_colours(camera_, rgbd_view(kf.t_ns, depth_m, rgb), stride_px_, m->gaussians);
   m->camera = mapping::RenderCamera::from(camera_, kf.T_w_c);

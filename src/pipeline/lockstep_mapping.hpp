@@ -4,7 +4,9 @@
 // Gaussians from the tracker's raw kNN covariances, as GS-ICP SLAM, and the frame as training
 // view), and after every frame the mapper runs one tick of `iterations_per_frame` optimisation
 // iterations over its window of recent keyframes, or as many as a time budget per frame allows
-// (mapping.budget_ms, see mapping/mapper.hpp). Offline and deterministic in its schedule with an
+// (mapping.budget_ms, see mapping/mapper.hpp). The pixels of the keyframe's points the
+// tracker flagged moving are masked out of its training view (moving_pixels.hpp,
+// mapping.moving_mask). Offline and deterministic in its schedule with an
 // iteration count; not real time (a live mapper runs at its own rate on its own thread).
 #include <cstdint>
 #include <memory>
@@ -28,7 +30,8 @@ class LockstepMapper {
                  int iterations_per_frame, double budget_ms, int tracker_pixel_stride);
 
   /// Hands a keyframe to the mapper with `frame` as its training view (allocates: copies
-  /// points and images; depth without a measurement becomes 0).
+  /// points and images; depth without a measurement becomes 0, that of moving points' pixels
+  /// -1).
   void add_keyframe(const tracking::Keyframe& kf, const RgbdView& frame);
   /// Keeps a copy of the last `frames` frames (keep_frame) so that a keyframe published late
   /// (the tracker's moving test holds it tracking.moving_window_frames frames) is trained on
@@ -46,6 +49,7 @@ class LockstepMapper {
 
  private:
   PinholeCamera camera_;
+  config::MovingMaskSettings moving_mask_;
   int stride_px_;
   double sample_angle_rad_;
   rt::WorkerTeam pool_;

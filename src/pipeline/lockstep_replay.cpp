@@ -230,6 +230,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     result.map_budget_overruns = mapper->mapper().budget_overruns();
     result.map_bytes_per_gaussian = mapper->mapper().bytes_per_gaussian();
     result.map_gated_points = mapper->mapper().gated_points();
+    result.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
   }
   result.wall_s = seconds_since(t0);
   return result;

@@ -96,11 +96,12 @@ struct ReplayResult {
   /// The map after the last frame's mapper tick (null without mapping).
   std::shared_ptr<const mapping::GaussianMap> map;
   long map_iterations = 0;
-  double map_s = 0.0;                     ///< inside the mapper
-  double map_budget_ms = 0.0;             ///< the mapper's budget per frame (0 = none)
-  std::uint64_t map_budget_overruns = 0;  ///< mapper ticks past their (carried) budget
-  double map_bytes_per_gaussian = 0.0;    ///< map + optimiser memory per Gaussian at the end
-  std::uint64_t map_gated_points = 0;     ///< keyframe points the map already rendered
+  double map_s = 0.0;                         ///< inside the mapper
+  double map_budget_ms = 0.0;                 ///< the mapper's budget per frame (0 = none)
+  std::uint64_t map_budget_overruns = 0;      ///< mapper ticks past their (carried) budget
+  double map_bytes_per_gaussian = 0.0;        ///< map + optimiser memory per Gaussian at the end
+  std::uint64_t map_gated_points = 0;         ///< keyframe points the map already rendered
+  std::uint64_t map_seen_through_pruned = 0;  ///< Gaussians later keyframes saw through
 };
 
 /// Replays `path`. Throws RecordingError naming the file on a damaged or unusable recording

@@ -48,4 +48,22 @@ struct FarFieldSettings {
   int stride_px = 8;      ///< one far Gaussian per stride x stride pixel block at most
 };
 
+/// mapping::SeeThroughSettings (mapping/see_through.hpp says the rule): Gaussians that later
+/// keyframes see through (a surface measured well behind them) are pruned.
+struct SeeThroughSettings {
+  bool enabled = true;
+  double margin_m = 0.1;       ///< in front of the measured surface by more than this...
+  double margin_per_m = 0.03;  ///< ...plus this per metre of the Gaussian's depth
+  int min_count = 2;           ///< keyframes that must see through a Gaussian to prune it
+  double min_fraction = 0.5;   ///< and at least this share of the keyframes that vote on it
+  bool missing_far = true;     ///< a pixel without depth is beyond the range (far), not unknown
+};
+
+/// Pixels of the points the tracker flagged moving (pipeline/moving_pixels.hpp): masked out of
+/// the keyframe's training view (depth -1: neither colour nor depth is a target).
+struct MovingMaskSettings {
+  bool enabled = true;
+  int dilation_px = 2;  ///< added around each point's pixel-stride block
+};
+
 }  // namespace vigs::config

@@ -5,8 +5,9 @@
 namespace vigs::config {
 
 /// Gaussian-splatting map: loss weights, Adam learning rates (GS-ICP SLAM defaults), pruning,
-/// insertion, the far field and the mapper task's schedule. The components' parts (loss, adam,
-/// prune, insert, far_field) are declared with their defaults in mapping_components.hpp; their docs
+/// insertion, the far field, people out of the map (moving mask, see-through pruning) and the
+/// mapper task's schedule. The components' parts (loss, adam, prune, insert, far_field,
+/// see_through, moving_mask) are declared with their defaults in mapping_components.hpp; their docs
 /// are here.
 struct MappingSettings {
   LossSettings loss;
@@ -15,6 +16,8 @@ struct MappingSettings {
   PruneSettings prune;
   InsertSettings insert;
   FarFieldSettings far_field;
+  SeeThroughSettings see_through;
+  MovingMaskSettings moving_mask;
   int threads = 2;
   double rate_hz = 10.0;
   int iterations_per_tick = 1;
@@ -50,6 +53,29 @@ struct MappingSettings {
              "camera.max_depth_m); 0 = no far field"});
     v.field("far_field_stride_px", far_field.stride_px,
             {"px", 1, 256, "one far Gaussian per stride x stride pixel block without depth"});
+    v.field("see_through_enabled", see_through.enabled,
+            "prune Gaussians that later keyframes see through (a surface measured behind them: "
+            "a person who stood there only for a moment)");
+    v.field("see_through_margin_m", see_through.margin_m,
+            {"m", 0.0, 10.0,
+             "a keyframe sees through a Gaussian when its measured depth at the Gaussian's pixel "
+             "lies behind it by more than this plus see_through_margin_per_m times its depth"});
+    v.field("see_through_margin_per_m", see_through.margin_per_m,
+            {"m/m", 0.0, 1.0, "growth of the see-through margin with the Gaussian's depth"});
+    v.field("see_through_min_count", see_through.min_count,
+            {"keyframes", 1, 1000, "keyframes that must see through a Gaussian to prune it"});
+    v.field("see_through_min_fraction", see_through.min_fraction,
+            {"-", 0.0, 1.0,
+             "and at least this share of the keyframes that voted on it (seen through or seen "
+             "on the surface)"});
+    v.field("see_through_missing_far", see_through.missing_far,
+            "for the see-through vote a pixel without depth is beyond the depth range (a "
+            "corridor's end, as the far field takes it); off: such pixels do not vote");
+    v.field("moving_mask", moving_mask.enabled,
+            "pixels of the points the tracker flagged moving are neither colour nor depth "
+            "targets of the keyframe's training view, nor far field");
+    v.field("moving_mask_dilation_px", moving_mask.dilation_px,
+            {"px", 0, 64, "the mask covers each moving point's pixel-stride block plus this"});
     v.field("threads", threads, {"threads", 1, 64, "rasterizer worker threads"});
     v.field("rate_hz", rate_hz, {"Hz", 0.1, 1000.0, "mapper task rate"});
     v.field("iterations_per_tick", iterations_per_tick,
