@@ -10,6 +10,7 @@
 #include <chrono>
 #include <thread>
 
+#include "lockstep_tracker_rig.hpp"
 #include "pipeline/keyframe_handoff.hpp"
 #include "pipeline/live_tracker.hpp"
 #include "pipeline/recording_source.hpp"
@@ -26,26 +27,12 @@ struct HandedKeyframes {
 
 HandedKeyframes run_lockstep(const config::RobotConfig& cfg, const std::string& path,
                              std::size_t pool_slots, std::size_t& pool_free_at_end) {
-  const PinholeCamera camera = RecordingSource::first_camera(path);
-  rt::FramePool pool({.slots = static_cast<std::uint32_t>(pool_slots),
-                      .width = static_cast<std::uint32_t>(camera.width_px),
-                      .height = static_cast<std::uint32_t>(camera.height_px),
-                      .colour_channels = 3});
-  rt::SpscRing<rt::FrameHandle> frames(4);
-  rt::SpscRing<ImuSample> imu(1024);
-  rt::SpscRing<PoseSample> poses(256);
-  rt::SpscRing<LiveFrameResult> results(1024);
-  KeyframeHandoff handoff(2, static_cast<std::size_t>(camera.width_px * camera.height_px));
-
-  LiveTrackerSettings ts;
-  ts.lockstep = true;
-  ts.camera = camera;
-  LiveTracker tracker(cfg, ts, {pool, frames, imu, poses, results, &handoff});
-  RecordingSourceSettings rs;
-  rs.path = path;
-  rs.lockstep = true;
-  RecordingSource source(rs, pool, frames, imu);
-  source.start();
+  testing::LockstepTrackerRig rig(cfg, path, static_cast<std::uint32_t>(pool_slots));
+  rt::FramePool& pool = rig.pool;
+  KeyframeHandoff& handoff = rig.handoff;
+  auto& poses = rig.poses;
+  auto& results = rig.results;
+  LiveTracker& tracker = rig.tracker;
 
   HandedKeyframes h;
   std::atomic<std::int64_t> newest_tracked_t_ns{INT64_MIN};
@@ -82,7 +69,7 @@ HandedKeyframes run_lockstep(const config::RobotConfig& cfg, const std::string& 
   while (!tracker.done() && !tracker.failed()) tracker.tick();
   consume = false;
   consumer.join();
-  source.stop();
+  rig.source.stop();
   EXPECT_FALSE(tracker.failed()) << tracker.failure_message();
   EXPECT_EQ(tracker.counters().keyframe_drops, 0u);
   pool_free_at_end = pool.available();

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "../common/counting_new.hpp"
+#include "lockstep_tracker_rig.hpp"
 #include "pipeline/keyframe_handoff.hpp"
 #include "pipeline/live_tracker.hpp"
 #include "pipeline/recording_source.hpp"
@@ -57,26 +58,12 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
   const std::string path = dir.file("office.mcap");
   testing::simulate(cfg, path);
 
-  const PinholeCamera camera = RecordingSource::first_camera(path);
-  rt::FramePool pool({.slots = 16,  // as rt.frame_pool_slots: held keyframes keep theirs
-                      .width = static_cast<std::uint32_t>(camera.width_px),
-                      .height = static_cast<std::uint32_t>(camera.height_px),
-                      .colour_channels = 3});
-  rt::SpscRing<rt::FrameHandle> frames(4);
-  rt::SpscRing<ImuSample> imu(1024);
-  rt::SpscRing<PoseSample> poses(256);
-  rt::SpscRing<LiveFrameResult> results(1024);
-  KeyframeHandoff handoff(2, static_cast<std::size_t>(camera.width_px * camera.height_px));
-
-  LiveTrackerSettings ts;
-  ts.lockstep = true;
-  ts.camera = camera;
-  LiveTracker tracker(cfg, ts, {pool, frames, imu, poses, results, &handoff});
-  RecordingSourceSettings rs;
-  rs.path = path;
-  rs.lockstep = true;
-  RecordingSource source(rs, pool, frames, imu);
-  source.start();
+  testing::LockstepTrackerRig rig(cfg, path);
+  rt::FramePool& pool = rig.pool;
+  KeyframeHandoff& handoff = rig.handoff;
+  auto& poses = rig.poses;
+  auto& results = rig.results;
+  LiveTracker& tracker = rig.tracker;
 
   // The mapper's, the publisher's and the main thread's sides, on one consumer thread.
   std::atomic<bool> consume{true};
@@ -113,7 +100,7 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
   g_armed = false;
   consume = false;
   consumer.join();
-  source.stop();
+  rig.source.stop();
   ASSERT_FALSE(tracker.failed()) << tracker.failure_message();
   const LiveTrackerCounters c = tracker.counters();
   ASSERT_GE(results_seen, kWarmUpFrames + kCountedFrames) << "the sequence is too short";
