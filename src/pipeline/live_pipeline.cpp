@@ -386,6 +386,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     r.map = std::make_shared<const mapping::GaussianMap>(mapper->mapper().map());
     r.map_iterations = static_cast<long>(mapper->mapper().iterations());
     r.map_s = rt::ns_to_s(mapper->busy_ns());
+    r.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
   }
   const dds::PosePublisher::Stats ps = publisher.stats();
   out.poses_published = ps.poses_published;
