@@ -1,5 +1,7 @@
 #include "pipeline/live_tracker.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <cstdio>
 #include <cstring>
 
@@ -187,7 +189,9 @@ bool LiveTracker::start_odometry(std::int64_t t_ns) {
     opt.initial_T_w_c =
         initial_camera_pose(motion, t_ns, cfg_, initial_pose_, InitialPoseSource::gravity);
   odometry_.emplace(cfg_, s_.camera, opt);
-  if (r_.keyframes != nullptr) held_frames_.assign(odometry_->tracker().held_capacity(), {});
+  if (r_.keyframes != nullptr)
+    held_frames_.emplace(
+        std::bit_ceil(std::max<std::size_t>(1, odometry_->tracker().held_capacity())));
   return true;
 }
 
@@ -249,13 +253,7 @@ void LiveTracker::hand_keyframe(const TrackedFrame& f, rt::FrameHandle h) noexce
     // The keyframe's own frame: this one (made at once), or the oldest kept one (released
     // moving_window_frames frames after it; the tracker releases its held keyframes in order).
     rt::FrameHandle own = h;
-    if (kf.t_ns != f.t_ns && held_count_ > 0) {
-      own = held_frames_[held_head_];
-      held_head_ = (held_head_ + 1) % held_frames_.size();
-      --held_count_;
-    } else {
-      r_.pool.retain(h);
-    }
+    if (kf.t_ns == f.t_ns || !held_frames_->try_pop(own)) r_.pool.retain(h);
     KeyframeSlot* slot = nullptr;
     if (r_.pool.frame(own).t_ns == kf.t_ns &&
         wait([&] { return (slot = r_.keyframes->acquire()) != nullptr; },
@@ -269,18 +267,12 @@ void LiveTracker::hand_keyframe(const TrackedFrame& f, rt::FrameHandle h) noexce
       r_.keyframes->count_drop();
     }
   }
-  if (f.held && held_count_ < held_frames_.size()) {
-    r_.pool.retain(h);
-    held_frames_[(held_head_ + held_count_) % held_frames_.size()] = h;
-    ++held_count_;
-  }
+  if (f.held && held_frames_->try_push(h)) r_.pool.retain(h);
 }
 
 void LiveTracker::release_held_frames() noexcept {
-  for (; held_count_ > 0; --held_count_) {
-    r_.pool.release(held_frames_[held_head_]);
-    held_head_ = (held_head_ + 1) % held_frames_.size();
-  }
+  rt::FrameHandle held;
+  while (held_frames_ && held_frames_->try_pop(held)) r_.pool.release(held);
 }
 
 void LiveTracker::finish() noexcept {

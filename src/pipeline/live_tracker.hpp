@@ -151,10 +151,9 @@ class LiveTracker {
   std::uint32_t pending_flags_ = 0;
   bool end_pending_ = false;  // the end marker was taken behind the frame being tracked
   std::uint64_t frame_index_ = 0;
-  // Frames of the keyframes the tracker holds, oldest first, retained (sized at start-up).
-  std::vector<rt::FrameHandle> held_frames_;
-  std::size_t held_head_ = 0;
-  std::size_t held_count_ = 0;
+  // Frames of the keyframes the tracker holds, oldest first, retained (made at start-up, room
+  // for Tracker::held_capacity(); this thread is both ends).
+  std::optional<rt::SpscRing<rt::FrameHandle>> held_frames_;
   InitialPoseSource initial_pose_ = InitialPoseSource::identity;
   std::atomic<bool> done_{false};
   std::atomic<bool> failed_{false};
