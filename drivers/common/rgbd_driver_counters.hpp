@@ -25,9 +25,9 @@ struct RgbdDriverCounters {
   std::uint64_t read_errors = 0;         // waitForAnyStream / readFrame failures
   std::uint64_t timeouts = 0;            // waits that saw no frame within wait_timeout_ms
   std::uint64_t clock_reanchors = 0;     // device time went backwards (DeviceClock)
-  std::uint64_t playback_skipped = 0;    // real-time .oni playback: depth frames OpenNI2's player
+  std::uint64_t playback_skipped = 0;    // .oni playback: depth frames OpenNI2's player
                                          // replaced (or wrapped past at the clip's end) before
-                                         // the driver read them
+                                         // the driver read them (0 in manual mode, the driver's)
   // Life cycle (DeviceStateMachine): one counter per fault kind.
   std::uint64_t opens = 0;           // successful opens (start() included)
   std::uint64_t open_failures = 0;   // failed (re)open attempts

@@ -89,6 +89,7 @@ Openni2Driver::Openni2Driver(const Openni2DriverSettings& settings, rt::FramePoo
       out_(out),
       // Half a frame period: frames of one instant pair, neighbours never do.
       pairer_(static_cast<std::int64_t>(std::llround(5e5 / std::max(settings.rate_hz, 1.0)))),
+      pacer_(settings.playback_speed, rt::ms_to_ns(std::max(settings.max_hold_ms, 1))),
       machine_(DeviceStateSettings{
           .frame_timeout_ns = rt::ms_to_ns(settings.frame_timeout_ms),
           .max_consecutive_errors =
@@ -145,9 +146,11 @@ void Openni2Driver::open_device() {
     }
     const bool is_file = d.device.isFile();
     is_file_.store(is_file, std::memory_order_relaxed);
+    paced_ = is_file && settings_.playback_speed > 0.0;
     if (is_file) {
+      // Manual mode in both cases: real time is paced by the driver (hold_until_due).
       openni::PlaybackControl* playback = d.device.getPlaybackControl();
-      const auto speed = static_cast<float>(settings_.playback_speed);
+      const float speed = -1.0f;
       if (playback == nullptr || playback->setSpeed(speed) != openni::STATUS_OK) {
         throw Openni2Error(what + ": cannot set the playback speed (setSpeed(" +
                            std::to_string(speed) + "))");
@@ -232,6 +235,7 @@ void Openni2Driver::open_device() {
   // Fresh per-connection state: a reopened device gets a new clock anchor and pairer.
   pairer_.reset();
   clock_.reset();
+  pacer_.reset();
 }
 
 void Openni2Driver::start() {
@@ -287,6 +291,7 @@ void Openni2Driver::close_device() noexcept {
 }
 
 void Openni2Driver::run(const std::stop_token& stop) noexcept {
+  stop_ = &stop;
   while (!stop.stop_requested()) {
     switch (machine_.state()) {
       case DeviceState::kOpening:
@@ -336,7 +341,8 @@ void Openni2Driver::stream_step() noexcept {
   }
   if (is_file() && (d.clip_restarted || (d.frames_this_open[kDepth] >= clip_depth_frames_ &&
                                          d.frames_this_open[kColour] >= clip_colour_frames_))) {
-    // Real time: the player may have wrapped past the last frames before they were read.
+    // A player that skipped (not in manual mode, which the driver uses) may have wrapped past
+    // the last frames before they were read.
     const auto last = static_cast<std::uint64_t>(std::max(d.last_index[kDepth], 0));
     if (last < clip_depth_frames_) playback_skipped_.add(clip_depth_frames_ - last);
     machine_.on_end_of_stream();
@@ -414,7 +420,8 @@ bool Openni2Driver::read_one(int s) noexcept {
       d.clip_restarted = true;
       return false;
     }
-    // Real time: the player replaces a frame nobody read in time (numbers start at 1).
+    // A frame number that jumps: frames the player replaced unread (numbers start at 1). Manual
+    // mode never does; counted so that a player that does is seen.
     if (s == kDepth && d.incoming.getFrameIndex() > d.last_index[s] + 1)
       playback_skipped_.add(
           static_cast<std::uint64_t>(d.incoming.getFrameIndex() - d.last_index[s] - 1));
@@ -475,6 +482,7 @@ void Openni2Driver::emit_pair() noexcept {
                         std::max(d.pending_read_ns[kDepth], d.pending_read_ns[kColour]));
   clock_reanchors_.add(clock_.reanchors() - clock_reanchors_.get());
   host_minus_device_ns_.store(clock_.offset_ns(), std::memory_order_release);
+  if (paced_) hold_until_due(static_cast<std::int64_t>(d.pending[kDepth].getTimestamp()) * 1000);
   if (trigger_ != nullptr) {
     if (const auto edge = trigger_->match(t_ns)) t_ns = *edge;
     t_ns = std::max(t_ns, last_synced_t_ns_ + 1);  // mixed edge / device stamps stay ordered
@@ -501,6 +509,15 @@ void Openni2Driver::emit_pair() noexcept {
   }
   d.pending[kDepth].release();
   d.pending[kColour].release();
+}
+
+void Openni2Driver::hold_until_due(std::int64_t t_device_ns) noexcept {
+  const std::int64_t due_ns = pacer_.due_ns(t_device_ns, rt::monotonic_ns());
+  // In wait_timeout_ms steps, so stop() stays as prompt as in the read loop.
+  for (std::int64_t now_ns = rt::monotonic_ns(); now_ns < due_ns; now_ns = rt::monotonic_ns()) {
+    if (stop_ != nullptr && stop_->stop_requested()) return;
+    rt::sleep_until_ns(std::min(due_ns, now_ns + rt::ms_to_ns(settings_.wait_timeout_ms)));
+  }
 }
 
 void Openni2Driver::finish_stream(const std::stop_token& stop) noexcept {

@@ -26,10 +26,13 @@
 // hanging. Reopening runs OpenNI2's open path on the driver thread (it allocates); that is a
 // recovery path, not the per-frame one.
 //
-// Playback: Device::open(path), setSpeed(playback_speed): -1 (the default) is lockstep (OpenNI2
-// delivers every recorded frame, one per read, never skipping); 1.0 is real time (OpenNI2's
-// player paces the frames by their recorded timestamps, as a sensor would; `vigs run
-// --through-drivers`). Repeat left on (see the .cpp), no seek. After the clip's last
+// Playback: Device::open(path) in OpenNI2's manual mode (setSpeed(-1): the player delivers the
+// next recorded frame when a read finds none, never skipping). playback_speed -1 (the default) is
+// lockstep: every frame as fast as the reader takes them. playback_speed > 0 is real time (`vigs
+// run --through-drivers`): the driver holds each pair until its recorded time comes on the host
+// clock (PlaybackPacer, drivers/common/playback_pacer.hpp), as a sensor delivers it. OpenNI2's
+// own real-time pacing (setSpeed(1)) is not used: it drifts about 1 % fast (see that header).
+// Repeat left on (see the .cpp), no seek. After the clip's last
 // frame (or a final fault) the driver sets end_of_stream(), pushes an invalid FrameHandle as the
 // end-of-stream marker (retrying every millisecond until the consumer makes room, or stop()) and
 // its thread ends.
@@ -51,6 +54,7 @@
 #include "drivers/common/device_state_machine.hpp"
 #include "drivers/common/frame_pairer.hpp"
 #include "drivers/common/frame_tap.hpp"
+#include "drivers/common/playback_pacer.hpp"
 #include "drivers/common/rgbd_driver_counters.hpp"
 #include "drivers/common/trigger_matcher.hpp"
 #include "drivers/openni2/device_clock.hpp"
@@ -92,7 +96,8 @@ struct Openni2DriverSettings {
   bool reopen_files = false;     ///< reopen a .oni path whose playback stalled (tests, re-recorded
                                  ///< clips); false: a stalled clip ends the stream as failed
   bool wait_for_device = false;  ///< start() does not open: the thread keeps trying (backoff)
-  double playback_speed = -1.0;  ///< .oni: -1 = lockstep (every frame), 1 = real time
+  double playback_speed = -1.0;  ///< .oni: -1 = lockstep (every frame), 1 = real time, 2 = 2x
+  int max_hold_ms = 1000;        ///< real-time playback: a longer gap in a clip re-anchors
 };
 
 /// Driver settings from the robot config (camera.device, camera.width_px, camera.height_px,
@@ -169,6 +174,8 @@ class Openni2Driver {
   // Returns false when the frame was not read (error) or not part of this run (clip restart).
   bool read_one(int stream_index) noexcept;
   void emit_pair() noexcept;
+  // Real-time playback: sleeps until the pair of device time t_device_ns is due (or stop).
+  void hold_until_due(std::int64_t t_device_ns) noexcept;
   void finish_stream(const std::stop_token& stop) noexcept;
   void close_device() noexcept;
 
@@ -178,6 +185,9 @@ class Openni2Driver {
   std::unique_ptr<Device> device_;
   FramePairer pairer_;
   DeviceClock clock_;
+  PlaybackPacer pacer_;
+  bool paced_ = false;                     // this open is a clip played in real time
+  const std::stop_token* stop_ = nullptr;  // the read thread's, while it runs
   TriggerMatcher* trigger_ = nullptr;
   FrameTap tap_;
   std::int64_t last_synced_t_ns_ = 0;

@@ -3,7 +3,7 @@
 // the live pipeline through the REAL drivers, exactly as `--source live` presents sensors:
 //  - camera: the recording's colour + depth pairs become an .oni clip (io/oni/mcap_to_oni.hpp,
 //    frame timestamps = the recorded stamps) that the real Openni2Driver plays through real
-//    OpenNI2 in real time (setSpeed(1): OpenNI2's player paces the frames). The clip is cached
+//    OpenNI2 in real time (playback_speed 1: the driver paces the frames). The clip is cached
 //    next to the recording (F.mcap -> F.drivers.oni, rebuilt when older than the recording),
 //    or, when that folder is not writable or the run needs its own clip, in a temporary
 //    folder removed by the destructor;

@@ -144,7 +144,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       cam.uri = replay->clip_path();
       cam.width_px = static_cast<std::uint32_t>(camera.width_px);
       cam.height_px = static_cast<std::uint32_t>(camera.height_px);
-      cam.playback_speed = 1.0;  // OpenNI2 paces the clip in real time
+      cam.playback_speed = 1.0;  // the driver paces the clip in real time
       // Opened on the driver's own thread, so OpenNI2's player thread inherits its real-time
       // priority and CPU: the "sensor" is not starved by the SCHED_FIFO tracker pair (opened
       // from this SCHED_OTHER thread it fell ~19 ms behind per second of stream).
