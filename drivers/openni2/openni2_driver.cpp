@@ -279,11 +279,21 @@ void Openni2Driver::close_device() noexcept {
   Device& d = *device_;
   for (auto& f : d.pending) f.release();
   d.incoming.release();
+  // Both streams stop before either is destroyed. OpenNI2 2.2's file player walks its stream list
+  // without a lock on every turn of its loop (PlayerDevice::MainLoop; a tight loop while a stream
+  // is started and the clip is cut short) and destroying a stream removes it unlocked: destroying
+  // one while the other was still started crashed libOniFile (3 in 90 runs of the truncated-clip
+  // test, core dump). Once none is started the player only looks every 10 ms, so wait past that.
+  bool any = false;
   for (auto& s : d.streams) {
     if (s.isValid()) {
       s.stop();
-      s.destroy();
+      any = true;
     }
+  }
+  if (any && is_file()) rt::sleep_until_ns(rt::monotonic_ns() + rt::ms_to_ns(25));
+  for (auto& s : d.streams) {
+    if (s.isValid()) s.destroy();
   }
   if (d.device.isValid()) d.device.close();
   if (d.initialized) openni::OpenNI::shutdown();
