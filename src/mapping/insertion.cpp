@@ -32,9 +32,19 @@ std::uint64_t GaussianInserter::key(const Eigen::Vector3d& p_w) const {
 
 void GaussianInserter::rebuild(const GaussianMap& map) {
   occupied_.clear();
+  occupied_.reserve(map.size());
   for (std::size_t i = 0; i < map.size(); ++i)
     occupied_.insert(
         key(Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2])));
+}
+
+void GaussianInserter::forget(const GaussianMap& map, const std::vector<char>& keep) {
+  const std::size_t n = std::min(map.size(), keep.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (keep[i]) continue;
+    occupied_.erase(
+        key(Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2])));
+  }
 }
 
 void footprint_scale_opacity(const InsertSettings& s, double z_m, double sample_angle_rad,

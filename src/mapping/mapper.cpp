@@ -130,9 +130,9 @@ void Mapper::prune_seen_through(const MapperKeyframe& kf) {
   const std::size_t condemned =
       seen_through_.vote(map_, kf.camera, kf.depth_m.data(), see_through_keep_);
   if (condemned == 0) return;
+  inserter_.forget(map_, see_through_keep_);  // not a rebuild: that is O(map) per keyframe
   optimizer_.remove(map_, see_through_keep_);
   seen_through_.compact(see_through_keep_);
-  inserter_.rebuild(map_);
   seen_through_pruned_.add(condemned);
 }
 

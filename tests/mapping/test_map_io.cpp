@@ -134,6 +134,29 @@ TEST(MappingInsertion, RotationIsProperAndScalesFollowGsIcp) {
   EXPECT_EQ(fresh.insert(map, kf), 0u);
 }
 
+// See-through pruning removes a few Gaussians per keyframe; forget() frees just their voxels
+// (no O(map) rebuild), so the keyframe's own points can fill the place at once.
+TEST(MappingInsertion, ForgetFreesTheVoxelsOfRemovedGaussiansOnly) {
+  KeyframeGaussians kf;
+  for (int i = 0; i < 6; ++i) {
+    kf.points_c.emplace_back(0.1f * static_cast<float>(i), 0.0f, 1.0f);
+    kf.covariances_c.push_back(Eigen::Matrix3f::Identity() * 1e-4f);
+    kf.colors.emplace_back(0.5f, 0.5f, 0.5f);
+  }
+  GaussianMap map;
+  GaussianInserter ins(InsertSettings{0.02, 0.1, 1e-5});
+  ASSERT_EQ(ins.insert(map, kf), 6u);
+  ASSERT_EQ(ins.occupied_voxels(), 6u);
+  const std::vector<char> keep = {1, 0, 1, 0, 1, 1};  // two condemned
+  ins.forget(map, keep);
+  EXPECT_EQ(ins.occupied_voxels(), 4u);
+  ASSERT_EQ(map.compact(keep), 2u);
+  // The same view again: exactly the two freed places are filled, nothing doubles.
+  EXPECT_EQ(ins.insert(map, kf), 2u);
+  EXPECT_EQ(map.size(), 6u);
+  EXPECT_EQ(ins.insert(map, kf), 0u);
+}
+
 TEST(MappingPrune, RemovesTransparentAndOversizedGaussians) {
   GaussianMap g = test::random_gaussians<float>(10, 2);
   g.opacity_logit[3] = logit(0.001f);       // transparent
