@@ -23,8 +23,7 @@ inline PoseSource pose_source(const TrackedFrame& f, std::uint64_t index) noexce
 /// direction), kPoseFlagMapRestarted (tracking.reinit_after_lost_frames restarted the local map
 /// here). The tracker adds the stream's own: frames skipped, out of order, IMU unavailable.
 inline std::uint32_t frame_pose_flags(const TrackedFrame& f) noexcept {
-  return (f.degenerate ? kPoseFlagDegenerate : 0u) |
-         (f.reinitialized ? kPoseFlagMapRestarted : 0u);
+  return (f.degenerate ? kPoseFlagDegenerate : 0u) | (f.reinitialized ? kPoseFlagMapRestarted : 0u);
 }
 
 /// Counts of the poses a pipeline produced, by source and flag (main thread: from the results
