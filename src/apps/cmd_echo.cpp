@@ -1,7 +1,9 @@
 // `vigs echo [TOPIC] [--domain N] [--count N] [--config F] [--timeout S]`: subscribe to VIGS's
 // DDS topics and print each sample as one JSON line, {"topic": ..., "type": ..., "msg": {...}}
 // with ROS 2's field names, like `ros2 topic echo`, for users without ROS. Without TOPIC: all
-// five VIGS topics. TOPIC may be a wire name (rt/vigs/pose) or a ROS 2 name (/vigs/pose); a
+// six VIGS topics (subscribed pose last: a publisher waiting for a pose reader, as `vigs run`
+// does, has then discovered the others too, since a participant announces its readers in
+// order). TOPIC may be a wire name (rt/vigs/pose) or a ROS 2 name (/vigs/pose); a
 // topic outside the VIGS set is echoed when its discovered type is one of VIGS's types.
 // --receipt adds "received_ns": CLOCK_MONOTONIC when the sample reached this process (a pose
 // stamped in the same host clock, as `vigs run` live or --through-drivers stamps it, then gives
@@ -95,6 +97,9 @@ bool subscribe_typed(dds::Subscriber& sub, Printer& p, const std::string& topic,
   } else if (type == "vigs_msgs::msg::dds_::Status_") {
     sub.subscribe<vigs_msgs::msg::dds_::Status_>(
         topic, p.callback<vigs_msgs::msg::dds_::Status_>(topic, ros));
+  } else if (type == "vigs_msgs::msg::dds_::PoseQuality_") {
+    sub.subscribe<vigs_msgs::msg::dds_::PoseQuality_>(
+        topic, p.callback<vigs_msgs::msg::dds_::PoseQuality_>(topic, ros));
   } else {
     return false;
   }
@@ -105,11 +110,12 @@ int run_echo(const EchoOptions& o) {
   const dds::DdsConfig cfg = load_dds_config(o.config_file, o.domain);
   const dds::TopicNames& t = cfg.topics;
   const std::pair<std::string, std::string> known[] = {
-      {t.pose, "geometry_msgs::msg::dds_::PoseWithCovarianceStamped_"},
+      {t.pose_quality, "vigs_msgs::msg::dds_::PoseQuality_"},
       {t.odom, "nav_msgs::msg::dds_::Odometry_"},
       {t.tf, "tf2_msgs::msg::dds_::TFMessage_"},
       {t.keyframe, "geometry_msgs::msg::dds_::PoseStamped_"},
-      {t.status, "vigs_msgs::msg::dds_::Status_"}};
+      {t.status, "vigs_msgs::msg::dds_::Status_"},
+      {t.pose, "geometry_msgs::msg::dds_::PoseWithCovarianceStamped_"}};
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -144,7 +150,8 @@ int run_echo(const EchoOptions& o) {
     if (!subscribe_typed(sub, printer, wire, type)) {
       std::cerr << "vigs echo: topic " << wire << " has type " << type
                 << ", which vigs echo cannot decode (it knows the VIGS types: "
-                   "PoseWithCovarianceStamped, PoseStamped, Odometry, TFMessage, Status)\n";
+                   "PoseWithCovarianceStamped, PoseStamped, Odometry, TFMessage, Status, "
+                   "PoseQuality)\n";
       return 1;
     }
   }

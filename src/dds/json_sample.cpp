@@ -103,4 +103,12 @@ json to_json(const vigs_msgs::msg::dds_::Status_& m) {
           {"faults", faults}};
 }
 
+json to_json(const vigs_msgs::msg::dds_::PoseQuality_& m) {
+  return {{"header", header(m.header())},
+          {"frame_index", m.frame_index()},
+          {"source", m.source()},
+          {"flags", m.flags()},
+          {"keyframe", m.keyframe()}};
+}
+
 }  // namespace vigs::dds

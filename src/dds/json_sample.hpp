@@ -15,5 +15,6 @@ nlohmann::json to_json(const geometry_msgs::msg::dds_::PoseStamped_& m);
 nlohmann::json to_json(const nav_msgs::msg::dds_::Odometry_& m);
 nlohmann::json to_json(const tf2_msgs::msg::dds_::TFMessage_& m);
 nlohmann::json to_json(const vigs_msgs::msg::dds_::Status_& m);
+nlohmann::json to_json(const vigs_msgs::msg::dds_::PoseQuality_& m);
 
 }  // namespace vigs::dds

@@ -8,6 +8,18 @@
 namespace vigs::dds {
 namespace {
 
+// The wire constants (vigs_msgs.idl, PoseQuality.msg) are the core's values, copied as they are.
+namespace pq = vigs_msgs::msg::PoseQuality_Constants;
+static_assert(pq::SOURCE_TRACKED == static_cast<std::uint8_t>(PoseSource::kTracked));
+static_assert(pq::SOURCE_IMU_PROPAGATED == static_cast<std::uint8_t>(PoseSource::kImuPropagated));
+static_assert(pq::SOURCE_INITIAL == static_cast<std::uint8_t>(PoseSource::kInitial));
+static_assert(pq::SOURCE_GROUND_TRUTH == static_cast<std::uint8_t>(PoseSource::kGroundTruth));
+static_assert(pq::FLAG_DEGENERATE == kPoseFlagDegenerate);
+static_assert(pq::FLAG_IMU_UNAVAILABLE == kPoseFlagImuUnavailable);
+static_assert(pq::FLAG_FRAMES_SKIPPED == kPoseFlagFramesSkipped);
+static_assert(pq::FLAG_OUT_OF_ORDER == kPoseFlagOutOfOrder);
+static_assert(pq::FLAG_MAP_RESTARTED == kPoseFlagMapRestarted);
+
 template <std::size_t N>
 bool all_finite(const double (&v)[N]) noexcept {
   for (double x : v) {
@@ -94,6 +106,17 @@ bool fill_keyframe(const PoseSample& s, const FrameIds& f,
   if (!publishable(s)) return false;
   fill_header(s, f.map, out.header());
   fill_pose_body(s, out.pose());
+  return true;
+}
+
+bool fill_pose_quality(const PoseSample& s, const FrameIds& f,
+                       vigs_msgs::msg::dds_::PoseQuality_& out) {
+  if (!publishable(s)) return false;
+  fill_header(s, f.map, out.header());
+  out.frame_index(s.frame_index);
+  out.source(static_cast<std::uint8_t>(s.source));
+  out.flags(s.flags);
+  out.keyframe(s.keyframe);
   return true;
 }
 

@@ -6,7 +6,9 @@
 //    says, the twist is expressed in the child frame: linear = R_w_c^T v_w, angular = omega_c.
 //    The sample carries no twist covariance, so it is all zeros (unknown);
 //  - TFMessage: one transform map -> camera;
-//  - PoseStamped: the keyframe's pose.
+//  - PoseStamped: the keyframe's pose;
+//  - vigs_msgs PoseQuality: the same header as the pose, the frame index, source, flags and
+//    keyframe bit, so a subscriber tells a tracked pose from a propagated or degraded one.
 // Each fill_* returns false (and the caller publishes nothing) when the sample holds a
 // non-finite number or a stamp int32 seconds cannot hold: such values never reach the wire.
 #include <string>
@@ -15,6 +17,7 @@
 #include "geometry_msgs.h"
 #include "nav_msgs.h"
 #include "tf2_msgs.h"
+#include "vigs_msgs.h"
 
 namespace vigs::dds {
 
@@ -32,5 +35,7 @@ bool fill_odometry(const PoseSample& s, const FrameIds& f, nav_msgs::msg::dds_::
 bool fill_tf(const PoseSample& s, const FrameIds& f, tf2_msgs::msg::dds_::TFMessage_& out);
 bool fill_keyframe(const PoseSample& s, const FrameIds& f,
                    geometry_msgs::msg::dds_::PoseStamped_& out);
+bool fill_pose_quality(const PoseSample& s, const FrameIds& f,
+                       vigs_msgs::msg::dds_::PoseQuality_& out);
 
 }  // namespace vigs::dds

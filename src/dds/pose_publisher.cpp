@@ -31,6 +31,8 @@ struct PosePublisher::Entities {
     pose = make_writer(c, c.topics.pose, pose_type, c.pose_qos_profile, "pose_qos_profile");
     odom = make_writer(c, c.topics.odom, odom_type, c.pose_qos_profile, "pose_qos_profile");
     tf = make_writer(c, c.topics.tf, tf_type, c.pose_qos_profile, "pose_qos_profile");
+    quality =
+        make_writer(c, c.topics.pose_quality, quality_type, c.pose_qos_profile, "pose_qos_profile");
     keyframe = make_writer(c, c.topics.keyframe, keyframe_type, c.keyframe_qos_profile,
                            "keyframe_qos_profile");
     status =
@@ -66,18 +68,21 @@ struct PosePublisher::Entities {
   fdds::TypeSupport tf_type{new tf2_msgs::msg::dds_::TFMessage_PubSubType()};
   fdds::TypeSupport keyframe_type{new geometry_msgs::msg::dds_::PoseStamped_PubSubType()};
   fdds::TypeSupport status_type{new vigs_msgs::msg::dds_::Status_PubSubType()};
+  fdds::TypeSupport quality_type{new vigs_msgs::msg::dds_::PoseQuality_PubSubType()};
   fdds::Publisher* publisher = nullptr;
   fdds::DataWriter* pose = nullptr;
   fdds::DataWriter* odom = nullptr;
   fdds::DataWriter* tf = nullptr;
   fdds::DataWriter* keyframe = nullptr;
   fdds::DataWriter* status = nullptr;
+  fdds::DataWriter* quality = nullptr;
   // Reused every cycle (their strings and the TF vector keep their capacity).
   geometry_msgs::msg::dds_::PoseWithCovarianceStamped_ pose_msg;
   nav_msgs::msg::dds_::Odometry_ odom_msg;
   tf2_msgs::msg::dds_::TFMessage_ tf_msg;
   geometry_msgs::msg::dds_::PoseStamped_ keyframe_msg;
   vigs_msgs::msg::dds_::Status_ status_msg;
+  vigs_msgs::msg::dds_::PoseQuality_ quality_msg;
 };
 
 PosePublisher::PosePublisher(const DdsConfig& config, PoseRing& poses, StatusMailbox* status,
@@ -142,16 +147,18 @@ std::size_t PosePublisher::run_cycle(std::int64_t now_ns) {
 
 void PosePublisher::publish(const PoseSample& s) {
   Entities& e = *entities_;
-  if (!fill_pose(s, e.frames, e.pose_msg) || !fill_odometry(s, e.frames, e.odom_msg) ||
-      !fill_tf(s, e.frames, e.tf_msg)) {
+  if (!fill_pose(s, e.frames, e.pose_msg) || !fill_pose_quality(s, e.frames, e.quality_msg) ||
+      !fill_odometry(s, e.frames, e.odom_msg) || !fill_tf(s, e.frames, e.tf_msg)) {
     rejected_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  // All three are written whatever the others return (no short circuit).
+  // All four are written whatever the others return (no short circuit); the quality right
+  // after its pose.
   const bool pose_ok = e.pose->write(&e.pose_msg);
+  const bool quality_ok = e.quality->write(&e.quality_msg);
   const bool odom_ok = e.odom->write(&e.odom_msg);
   const bool tf_ok = e.tf->write(&e.tf_msg);
-  const bool ok = pose_ok && odom_ok && tf_ok;
+  const bool ok = pose_ok && quality_ok && odom_ok && tf_ok;
   if (!ok) write_errors_.fetch_add(1, std::memory_order_relaxed);
   poses_published_.fetch_add(1, std::memory_order_relaxed);
   if (s.keyframe) {
@@ -177,11 +184,20 @@ void PosePublisher::publish_status(const StatusSnapshot& s) {
   }
 }
 
-int PosePublisher::pose_subscribers() const {
-  if (entities_ == nullptr) return 0;
+namespace {
+int matched_readers(fdds::DataWriter* w) {
   fdds::PublicationMatchedStatus st;
-  entities_->pose->get_publication_matched_status(st);
+  w->get_publication_matched_status(st);
   return st.current_count;
+}
+}  // namespace
+
+int PosePublisher::pose_subscribers() const {
+  return entities_ == nullptr ? 0 : matched_readers(entities_->pose);
+}
+
+int PosePublisher::pose_quality_subscribers() const {
+  return entities_ == nullptr ? 0 : matched_readers(entities_->quality);
 }
 
 bool PosePublisher::wait_for_subscribers(int n, std::chrono::milliseconds timeout) const {
@@ -190,9 +206,7 @@ bool PosePublisher::wait_for_subscribers(int n, std::chrono::milliseconds timeou
   for (;;) {
     bool all = true;
     for (fdds::DataWriter* w : {entities_->pose, entities_->odom, entities_->tf}) {
-      fdds::PublicationMatchedStatus st;
-      w->get_publication_matched_status(st);
-      all = all && st.current_count >= n;
+      all = all && matched_readers(w) >= n;
     }
     if (all) return true;
     if (std::chrono::steady_clock::now() > deadline) return false;
@@ -204,8 +218,8 @@ bool PosePublisher::wait_for_acknowledgments(std::chrono::milliseconds timeout) 
   if (entities_ == nullptr) return false;
   const eprosima::fastrtps::Duration_t max_wait(static_cast<double>(timeout.count()) / 1e3);
   bool ok = true;
-  for (fdds::DataWriter* w :
-       {entities_->pose, entities_->odom, entities_->tf, entities_->keyframe, entities_->status}) {
+  for (fdds::DataWriter* w : {entities_->pose, entities_->quality, entities_->odom, entities_->tf,
+                              entities_->keyframe, entities_->status}) {
     ok = ok && w->wait_for_acknowledgments(max_wait) == ReturnCode_t::RETCODE_OK;
   }
   return ok;

@@ -2,10 +2,11 @@
 // PosePublisher: the DDS publisher role. It owns the participant, the DDS publisher and one
 // writer per topic, and drains the tracker's pose ring on its own non-real-time thread (the
 // thread table's `dds_pub`: SCHED_OTHER, every 2 ms). From each PoseSample it writes
-//   <prefix>/pose      PoseWithCovarianceStamped (frame dds.map_frame_id)
-//   <prefix>/odom      Odometry (child frame dds.camera_frame_id, twist in the camera frame)
-//   rt/tf              TFMessage map -> camera
-//   <prefix>/keyframe  PoseStamped, only when sample.keyframe
+//   <prefix>/pose          PoseWithCovarianceStamped (frame dds.map_frame_id)
+//   <prefix>/pose_quality  vigs_msgs PoseQuality: the pose's header, source, flags, keyframe
+//   <prefix>/odom          Odometry (child frame dds.camera_frame_id, twist in the camera frame)
+//   rt/tf                  TFMessage map -> camera
+//   <prefix>/keyframe      PoseStamped, only when sample.keyframe
 // all stamped with the sample's sensor time t_ns, and, at 1 Hz, the newest StatusSnapshot (if
 // one arrived since the last) on <prefix>/status.
 //
@@ -43,7 +44,7 @@ class PosePublisher {
   using StatusMailbox = rt::OverwriteRing<StatusSnapshot>;  ///< capacity 1: latest value
 
   struct Stats {
-    std::uint64_t poses_published = 0;      ///< samples written on pose, odom and tf
+    std::uint64_t poses_published = 0;      ///< samples written on pose, pose_quality, odom, tf
     std::uint64_t keyframes_published = 0;  ///< samples written on keyframe
     std::uint64_t status_published = 0;
     std::uint64_t rejected = 0;      ///< samples (or snapshots) with non-finite values or stamps
@@ -72,6 +73,8 @@ class PosePublisher {
 
   /// Readers currently matched on <prefix>/pose (0 when disabled).
   [[nodiscard]] int pose_subscribers() const;
+  /// Readers currently matched on <prefix>/pose_quality (0 when disabled).
+  [[nodiscard]] int pose_quality_subscribers() const;
   /// Waits until every pose/odom/tf writer has at least `n` matched readers.
   bool wait_for_subscribers(int n, std::chrono::milliseconds timeout) const;
 

@@ -58,7 +58,7 @@ struct FaultCounterEntry {
 struct StatusSnapshot {
   static constexpr std::size_t kMaxThreads = 8;
   static constexpr std::size_t kMaxRings = 8;
-  static constexpr std::size_t kMaxFaults = 16;
+  static constexpr std::size_t kMaxFaults = 24;
 
   std::int64_t t_ns = 0;  ///< when the snapshot was taken (the pipeline's clock), ns
   TrackingState tracking_state = TrackingState::kStarting;

@@ -44,6 +44,10 @@ template <>
 struct PubSubTypeOf<vigs_msgs::msg::dds_::Status_> {
   using type = vigs_msgs::msg::dds_::Status_PubSubType;
 };
+template <>
+struct PubSubTypeOf<vigs_msgs::msg::dds_::PoseQuality_> {
+  using type = vigs_msgs::msg::dds_::PoseQuality_PubSubType;
+};
 
 struct ReaderBase : fdds::DataReaderListener {
   std::string topic;
@@ -155,5 +159,7 @@ template void Subscriber::subscribe(const std::string&,
                                     std::function<void(const tf2_msgs::msg::dds_::TFMessage_&)>);
 template void Subscriber::subscribe(const std::string&,
                                     std::function<void(const vigs_msgs::msg::dds_::Status_&)>);
+template void Subscriber::subscribe(const std::string&,
+                                    std::function<void(const vigs_msgs::msg::dds_::PoseQuality_&)>);
 
 }  // namespace vigs::dds

@@ -19,7 +19,7 @@ namespace vigs::dds {
 
 /// The message types VIGS publishes (generated from src/dds/idl). Subscriber::subscribe is
 /// instantiated for these: geometry_msgs PoseWithCovarianceStamped_, PoseStamped_,
-/// nav_msgs Odometry_, tf2_msgs TFMessage_, vigs_msgs Status_.
+/// nav_msgs Odometry_, tf2_msgs TFMessage_, vigs_msgs Status_ and PoseQuality_.
 class Subscriber {
  public:
   explicit Subscriber(const DdsConfig& config, const std::string& participant_name = "vigs_sub");

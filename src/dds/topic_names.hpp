@@ -6,14 +6,16 @@
 namespace vigs::dds {
 
 struct TopicNames {
-  std::string pose;      ///< PoseWithCovarianceStamped
-  std::string odom;      ///< Odometry
-  std::string keyframe;  ///< PoseStamped, one per new keyframe
-  std::string status;    ///< vigs_msgs Status, 1 Hz
-  std::string tf;        ///< TFMessage, map -> camera
+  std::string pose;          ///< PoseWithCovarianceStamped
+  std::string odom;          ///< Odometry
+  std::string keyframe;      ///< PoseStamped, one per new keyframe
+  std::string status;        ///< vigs_msgs Status, 1 Hz
+  std::string tf;            ///< TFMessage, map -> camera
+  std::string pose_quality;  ///< vigs_msgs PoseQuality, one per pose (source and flags)
 
   static TopicNames from_prefix(const std::string& prefix) {
-    return {prefix + "/pose", prefix + "/odom", prefix + "/keyframe", prefix + "/status", "rt/tf"};
+    return {prefix + "/pose",   prefix + "/odom", prefix + "/keyframe",
+            prefix + "/status", "rt/tf",          prefix + "/pose_quality"};
   }
 };
 

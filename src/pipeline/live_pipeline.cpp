@@ -235,9 +235,10 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   std::vector<float> track_ms;
   std::vector<std::int64_t> latency_ns, wait_ns;  // arrival -> pose pushed; arrival -> tick
   bool ended = false;
+  PoseQualityCounts pose_quality;
   LiveStatusSources status_sources{
-      &tracker_task, mapper_task.get(),   &tracker,        mapper.get(), &frames, &imu,
-      &poses,        camera_driver.get(), imu_driver.get()};
+      &tracker_task, mapper_task.get(),   &tracker,         mapper.get(), &frames, &imu,
+      &poses,        camera_driver.get(), imu_driver.get(), &pose_quality};
   const auto source_counters = [&] {
     if (recording) return recording->counters();
     RecordingSourceCounters c;
@@ -271,8 +272,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
         ended = true;
         continue;
       }
-      if (taps && !taps->poses.try_push(recorded_pose(r, out.replay.frames.size())))
-        ++taps->pose_drops;
+      const std::uint64_t index = out.replay.frames.size();
+      if (taps && !taps->poses.try_push(recorded_pose(r, index))) ++taps->pose_drops;
+      pose_quality.add(pose_source(r.frame, index), r.flags | frame_pose_flags(r.frame));
       out.replay.frames.push_back(r.frame);
       out.pose_flags.push_back(r.flags);
       track_ms.push_back(static_cast<float>(rt::ns_to_ms(r.track_ns)));

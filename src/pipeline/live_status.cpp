@@ -43,7 +43,12 @@ dds::StatusSnapshot make_status_snapshot(const LiveStatusSources& s, std::int64_
   st.t_ns = now_ns;
   const LiveTrackerCounters c = s.tracker->counters();
   st.frames_tracked = c.frames;
-  st.tracking_state = c.frames == 0 ? dds::TrackingState::kStarting : dds::TrackingState::kTracking;
+  if (s.pose_quality != nullptr) {
+    st.tracking_state = tracking_state(*s.pose_quality);
+  } else {
+    st.tracking_state =
+        c.frames == 0 ? dds::TrackingState::kStarting : dds::TrackingState::kTracking;
+  }
   if (s.mapper != nullptr) st.gaussian_count = s.mapper->gaussians();
   add_thread(st, *s.tracker_task);
   if (s.mapper_task != nullptr) add_thread(st, *s.mapper_task);
@@ -56,6 +61,11 @@ dds::StatusSnapshot make_status_snapshot(const LiveStatusSources& s, std::int64_
   add_fault(st, "tracker.imu_unavailable", c.imu_unavailable);
   add_fault(st, "tracker.waiting_imu", c.waiting_imu);
   add_fault(st, "tracker.keyframe_drops", c.keyframe_drops);
+  if (s.pose_quality != nullptr) {
+    add_fault(st, "tracker.poses_imu_propagated", s.pose_quality->imu_propagated);
+    add_fault(st, "tracker.poses_degenerate", s.pose_quality->degenerate);
+    add_fault(st, "tracker.map_restarts", s.pose_quality->map_restarts);
+  }
   if (s.imu_driver != nullptr) {
     const drivers::SerialImuFaults f = s.imu_driver->faults();
     add_fault(st, "imu.bad_checksum", f.bad_checksum);

@@ -10,6 +10,7 @@
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "pipeline/live_mapper.hpp"
 #include "pipeline/live_tracker.hpp"
+#include "pipeline/pose_quality.hpp"
 #include "rt/frame_pool.hpp"
 #include "rt/periodic_task.hpp"
 #include "rt/spsc_ring.hpp"
@@ -26,6 +27,9 @@ struct LiveStatusSources {
   const rt::SpscRing<PoseSample>* poses = nullptr;
   const drivers::Openni2Driver* camera = nullptr;  ///< the drivers, when they run
   const drivers::SerialImuDriver* imu_driver = nullptr;
+  /// The poses' sources and flags (the main thread's count): tracking_state and the
+  /// tracker.poses_* faults; null: tracking_state from the frame count alone.
+  const PoseQualityCounts* pose_quality = nullptr;
 };
 
 /// Drops counted by the tracker (skipped frames, full pose / result rings, keyframes).

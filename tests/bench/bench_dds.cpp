@@ -1,11 +1,12 @@
 // bench_dds: publish-to-receive latency of VIGS poses between two processes over Fast DDS,
 // through shared memory and through UDP loopback, beside a plain UDP socket round trip on
 // 127.0.0.1 measured in the same run. Poses at 20 Hz (the camera rate), 200 per case.
-//  - DDS: this process runs the real PosePublisher (PoseSample -> pose, odom, tf) and stamps each
-//    sample with CLOCK_MONOTONIC just before PosePublisher::run_cycle; a second process (this
-//    binary, --child-dds) subscribes with our Subscriber and takes monotonic_ns() - stamp when
-//    the pose arrives. Both sides share the machine's monotonic clock, so this is one-way.
-//    Iteration time: the publisher's cycle (fill + 3 writes).
+//  - DDS: this process runs the real PosePublisher (PoseSample -> pose, pose quality, odom, tf)
+//    and stamps each sample with CLOCK_MONOTONIC just before PosePublisher::run_cycle; a second
+//    process (this binary, --child-dds) subscribes with our Subscriber and takes
+//    monotonic_ns() - stamp when the pose arrives. Both sides share the machine's monotonic clock,
+//    so this is one-way. Iteration time: the publisher's cycle (fill + 4 writes: pose, pose
+//    quality, odom, tf).
 //  - UDP: a datagram of the pose message's CDR size carries its send time; the second process
 //    (--child-udp) takes the one-way latency and echoes it back; iteration time = round trip.
 // Counters: p50_us, p99_us, max_us of the one-way latency (and rtt_* for UDP), received.

@@ -1,6 +1,7 @@
 // cyclone_pose_reader: an independent DDS implementation (Eclipse Cyclone DDS 0.10, Debian's
 // cyclonedds-dev; types compiled by its own idlc from src/dds/idl) subscribing to VIGS's
-// rt/vigs/pose, rt/vigs/odom and rt/tf, as a ROS 2 node on rmw_cyclonedds would. It shares no
+// rt/vigs/pose, rt/vigs/odom, rt/tf and rt/vigs/pose_quality, as a ROS 2 node on
+// rmw_cyclonedds would (with vigs_msgs built). It shares no
 // code with the Fast DDS side except the expected pattern (tests/dds/pose_pattern.hpp).
 // Loopback only: CYCLONEDDS_URI must be set (the test sets NetworkInterface 127.0.0.1, no
 // multicast, peer 127.0.0.1); without it this program sets that configuration itself.
@@ -22,6 +23,7 @@
 #include "nav_msgs.h"
 #include "pose_pattern.hpp"
 #include "tf2_msgs.h"
+#include "vigs_msgs.h"
 
 namespace {
 
@@ -128,21 +130,24 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cyclone: create_participant: %s\n", dds_strretcode(-participant));
     return 1;
   }
-  TopicCheck checks[3];
+  constexpr int kTopics = 4;
+  TopicCheck checks[kTopics];
   checks[0].topic = "rt/vigs/pose";
   checks[0].expected_type = "geometry_msgs::msg::dds_::PoseWithCovarianceStamped_";
   checks[1].topic = "rt/vigs/odom";
   checks[1].expected_type = "nav_msgs::msg::dds_::Odometry_";
   checks[2].topic = "rt/tf";
   checks[2].expected_type = "tf2_msgs::msg::dds_::TFMessage_";
-  const dds_topic_descriptor_t* descs[3] = {&geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc,
-                                            &nav_msgs_msg_dds__Odometry__desc,
-                                            &tf2_msgs_msg_dds__TFMessage__desc};
+  checks[3].topic = "rt/vigs/pose_quality";
+  checks[3].expected_type = "vigs_msgs::msg::dds_::PoseQuality_";
+  const dds_topic_descriptor_t* descs[kTopics] = {
+      &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, &nav_msgs_msg_dds__Odometry__desc,
+      &tf2_msgs_msg_dds__TFMessage__desc, &vigs_msgs_msg_dds__PoseQuality__desc};
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
   dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
-  for (int t = 0; t < 3; ++t) {
+  for (int t = 0; t < kTopics; ++t) {
     const dds_entity_t topic =
         dds_create_topic(participant, descs[t], checks[t].topic, nullptr, nullptr);
     if (topic < 0) {
@@ -197,7 +202,16 @@ int main(int argc, char** argv) {
         checks[2].pattern = false;
       }
     });
-    if (publications > 0) read_publications(publications, checks, 3);
+    take_all<vigs_msgs_msg_dds__PoseQuality_>(checks[3], [&](const auto& m) {
+      const std::int64_t i = check_stamp(checks[3], m.header, "map");
+      if (i < 0) return;
+      const vigs::PoseSample s = vigs::dds::test::pattern_sample(static_cast<std::uint64_t>(i));
+      if (m.frame_index != s.frame_index || m.source != static_cast<std::uint8_t>(s.source) ||
+          m.flags != s.flags || m.keyframe != s.keyframe) {
+        checks[3].pattern = false;
+      }
+    });
+    if (publications > 0) read_publications(publications, checks, kTopics);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   bool ok = true;

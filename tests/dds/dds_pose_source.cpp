@@ -1,6 +1,7 @@
 // dds_pose_source: the publishing process of the two-process DDS tests. Runs a real
 // PosePublisher on the built-in (loopback-only) configuration, waits for `--subscribers`
-// matched readers (on pose, odom and tf; with --wait-all 0 on pose only), then pushes the pose
+// matched readers (on pose, odom and tf; with --wait-all 0 on pose only; with --wait-quality 1
+// on pose_quality too), then pushes the pose
 // pattern (tests/dds/pose_pattern.hpp) into the ring at
 // `--rate-hz`, a status snapshot every 20 poses, and exits once every matched reader has
 // acknowledged what was written (or 10 s passed). Prints one JSON line of counters. Exit 0 on
@@ -26,7 +27,8 @@ int main(int argc, char** argv) {
   int domain = -1, count = 100, subscribers = 1, wait_s = 20;
   double rate_hz = 100;
   bool shm = true;
-  bool wait_all = true;  // wait for readers on pose, odom and tf (else on pose only)
+  bool wait_all = true;       // wait for readers on pose, odom and tf (else on pose only)
+  bool wait_quality = false;  // and on pose_quality
   std::string config_file, iface;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
@@ -45,6 +47,8 @@ int main(int argc, char** argv) {
       shm = std::atoi(v) != 0;
     else if (k == "--wait-all")
       wait_all = std::atoi(v) != 0;
+    else if (k == "--wait-quality")
+      wait_quality = std::atoi(v) != 0;
     else if (k == "--config")
       config_file = v;
     else {
@@ -72,9 +76,16 @@ int main(int argc, char** argv) {
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
       }
     }
+    if (wait_quality) {
+      while (pub.pose_quality_subscribers() < subscribers &&
+             std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
+    }
     if (subscribers > 0 &&
-        (wait_all ? !pub.wait_for_subscribers(subscribers, std::chrono::seconds(wait_s))
-                  : pub.pose_subscribers() < subscribers)) {
+        ((wait_all ? !pub.wait_for_subscribers(subscribers, std::chrono::seconds(wait_s))
+                   : pub.pose_subscribers() < subscribers) ||
+         (wait_quality && pub.pose_quality_subscribers() < subscribers))) {
       std::fprintf(stderr, "dds_pose_source: no subscriber within %d s\n", wait_s);
       return 2;
     }

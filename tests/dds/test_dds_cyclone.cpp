@@ -1,7 +1,8 @@
 // Interoperability: our Fast DDS PosePublisher (process 1, dds_pose_source) to a subscriber on
 // Eclipse Cyclone DDS (process 2, cyclone_pose_reader, its own idlc-generated types). Every
-// sample of rt/vigs/pose, rt/vigs/odom and rt/tf arrives, in order, with the ROS 2 type name,
-// frame ids and stamps. Both sides loopback only. The Cyclone reader starts first (a volatile
+// sample of rt/vigs/pose, rt/vigs/odom, rt/tf and rt/vigs/pose_quality (VIGS's own type: source,
+// flags, frame index, keyframe) arrives, in order, with the ROS 2 type name, frame ids and
+// stamps. Both sides loopback only. The Cyclone reader starts first (a volatile
 // reader joining late could miss the start). Domain 159.
 #include <gtest/gtest.h>
 
@@ -26,7 +27,7 @@ constexpr const char* kCycloneLoopback =
     "<ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>32</MaxAutoParticipantIndex>"
     "</Discovery></Domain></CycloneDDS>";
 
-TEST(DdsCycloneInterop, CycloneReceivesEveryPoseOdomAndTfInOrder) {
+TEST(DdsCycloneInterop, CycloneReceivesEveryPoseOdomTfAndPoseQualityInOrder) {
   test::ShmJanitor janitor;
   constexpr int kCount = 60;
   test::ChildProcess reader({VIGS_CYCLONE_POSE_READER, "--domain", "159", "--count",
@@ -37,7 +38,8 @@ TEST(DdsCycloneInterop, CycloneReceivesEveryPoseOdomAndTfInOrder) {
   }
   ASSERT_NE(reader.output().find("ready"), std::string::npos) << "Cyclone reader did not start";
   test::ChildProcess source({VIGS_DDS_POSE_SOURCE, "--domain", "159", "--count",
-                             std::to_string(kCount), "--rate-hz", "50", "--wait-s", "30"});
+                             std::to_string(kCount), "--rate-hz", "50", "--wait-s", "30",
+                             "--wait-quality", "1"});
   EXPECT_EQ(source.wait(90s), 0) << source.output();
   EXPECT_EQ(reader.wait(60s), 0) << reader.output();
   const std::string& out = reader.output();
@@ -47,7 +49,9 @@ TEST(DdsCycloneInterop, CycloneReceivesEveryPoseOdomAndTfInOrder) {
         "{\"topic\":\"rt/vigs/odom\",\"samples\":60,\"in_order\":true,\"pattern\":true,"
         "\"writer_type\":\"nav_msgs::msg::dds_::Odometry_\"}",
         "{\"topic\":\"rt/tf\",\"samples\":60,\"in_order\":true,\"pattern\":true,"
-        "\"writer_type\":\"tf2_msgs::msg::dds_::TFMessage_\"}"}) {
+        "\"writer_type\":\"tf2_msgs::msg::dds_::TFMessage_\"}",
+        "{\"topic\":\"rt/vigs/pose_quality\",\"samples\":60,\"in_order\":true,"
+        "\"pattern\":true,\"writer_type\":\"vigs_msgs::msg::dds_::PoseQuality_\"}"}) {
     EXPECT_NE(out.find(line), std::string::npos) << "missing " << line << "\nin:\n" << out;
   }
 }

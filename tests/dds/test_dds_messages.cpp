@@ -69,6 +69,24 @@ TEST(PoseMessages, TfIsMapToCamera) {
   EXPECT_EQ(t.transforms()[0].transform().rotation().z(), s.q_w_xyzw[2]);
 }
 
+TEST(PoseMessages, PoseQualityCarriesThePoseHeaderSourceFlagsAndKeyframe) {
+  PoseSample s = test::pattern_sample(10);
+  s.source = PoseSource::kImuPropagated;
+  s.flags = kPoseFlagImuUnavailable | kPoseFlagMapRestarted;
+  vigs_msgs::msg::dds_::PoseQuality_ q;
+  ASSERT_TRUE(fill_pose_quality(s, {"world", "cam"}, q));
+  EXPECT_EQ(to_ns(q.header().stamp().sec(), q.header().stamp().nanosec()), s.t_ns);
+  EXPECT_EQ(q.header().frame_id(), "world");  // the pose's frame
+  EXPECT_EQ(q.frame_index(), 10u);
+  EXPECT_EQ(q.source(), vigs_msgs::msg::PoseQuality_Constants::SOURCE_IMU_PROPAGATED);
+  EXPECT_EQ(q.flags(), vigs_msgs::msg::PoseQuality_Constants::FLAG_IMU_UNAVAILABLE |
+                           vigs_msgs::msg::PoseQuality_Constants::FLAG_MAP_RESTARTED);
+  EXPECT_TRUE(q.keyframe());
+  // A sample whose pose is not published has no quality either.
+  s.p_w_m[0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(fill_pose_quality(s, {}, q));
+}
+
 TEST(PoseMessages, NonFiniteValuesOrUnrepresentableStampsAreNotPublished) {
   geometry_msgs::msg::dds_::PoseWithCovarianceStamped_ m;
   nav_msgs::msg::dds_::Odometry_ o;

@@ -1,7 +1,8 @@
 // Publisher (PosePublisher in a second process, tests/dds/dds_pose_source.cpp) to our
 // Subscriber: every pose arrives, in order, with its sensor stamp, frame ids and covariance
-// layout, on pose, odom, tf and keyframe; status arrives. Over shared memory and over UDP
-// loopback only. Unique domain ids: 151, 152.
+// layout, on pose, odom, tf and keyframe; status arrives; each pose's quality (pose_quality:
+// same header, frame index, every PoseSource and every PoseFlags combination, keyframe bit)
+// arrives exactly. Over shared memory and over UDP loopback only. Unique domain ids: 151, 152.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -25,6 +26,7 @@ using geometry_msgs::msg::dds_::PoseStamped_;
 using geometry_msgs::msg::dds_::PoseWithCovarianceStamped_;
 using nav_msgs::msg::dds_::Odometry_;
 using tf2_msgs::msg::dds_::TFMessage_;
+using vigs_msgs::msg::dds_::PoseQuality_;
 using vigs_msgs::msg::dds_::Status_;
 
 constexpr int kCount = 100;
@@ -36,6 +38,7 @@ struct Received {
   std::vector<TFMessage_> tfs;
   std::vector<PoseStamped_> keyframes;
   std::vector<Status_> statuses;
+  std::vector<PoseQuality_> qualities;
   std::size_t pose_count() {
     std::lock_guard l(m);
     return poses.size();
@@ -55,6 +58,10 @@ void run_pair(int domain, bool shm) {
   Received r;
   {
     Subscriber sub(cfg, "test_two_process_sub");
+    sub.subscribe<PoseQuality_>(cfg.topics.pose_quality, [&](const auto& m) {
+      std::lock_guard l(r.m);
+      r.qualities.push_back(m);
+    });
     sub.subscribe<PoseWithCovarianceStamped_>(cfg.topics.pose, [&](const auto& m) {
       std::lock_guard l(r.m);
       r.poses.push_back(m);
@@ -76,7 +83,8 @@ void run_pair(int domain, bool shm) {
       r.statuses.push_back(m);
     });
     test::ChildProcess pub({VIGS_DDS_POSE_SOURCE, "--domain", std::to_string(domain), "--count",
-                            std::to_string(kCount), "--rate-hz", "100", "--shm", shm ? "1" : "0"});
+                            std::to_string(kCount), "--rate-hz", "100", "--shm", shm ? "1" : "0",
+                            "--wait-quality", "1"});
     ASSERT_EQ(pub.wait(90s), 0) << pub.output();
     for (int i = 0; i < 300 && r.pose_count() < kCount; ++i) std::this_thread::sleep_for(10ms);
     EXPECT_NE(pub.output().find("\"ring_drops\":0"), std::string::npos) << pub.output();
@@ -85,6 +93,8 @@ void run_pair(int domain, bool shm) {
   ASSERT_EQ(r.poses.size(), static_cast<std::size_t>(kCount));
   ASSERT_EQ(r.odoms.size(), static_cast<std::size_t>(kCount));
   ASSERT_EQ(r.tfs.size(), static_cast<std::size_t>(kCount));
+  ASSERT_EQ(r.qualities.size(), static_cast<std::size_t>(kCount));
+  std::uint32_t sources_seen = 0, flags_seen = 0;
   for (int i = 0; i < kCount; ++i) {
     const PoseSample s = test::pattern_sample(static_cast<std::uint64_t>(i));
     const auto& p = r.poses[static_cast<std::size_t>(i)];
@@ -110,7 +120,19 @@ void run_pair(int domain, bool shm) {
     expect_stamp(t.transforms()[0].header(), s.t_ns, "map");
     EXPECT_EQ(t.transforms()[0].child_frame_id(), "camera");
     EXPECT_EQ(t.transforms()[0].transform().translation().y(), s.p_w_m[1]);
+    const auto& pq = r.qualities[static_cast<std::size_t>(i)];
+    expect_stamp(pq.header(), s.t_ns, "map");
+    EXPECT_EQ(pq.frame_index(), s.frame_index);
+    EXPECT_EQ(pq.source(), static_cast<std::uint8_t>(s.source)) << "pose " << i;
+    EXPECT_EQ(pq.flags(), s.flags) << "pose " << i;
+    EXPECT_EQ(pq.keyframe(), s.keyframe) << "pose " << i;
+    sources_seen |= 1u << pq.source();
+    flags_seen |= pq.flags();
   }
+  // The pattern went through every source and every flag bit (so each reached the subscriber).
+  EXPECT_EQ(sources_seen, 0b1111u);
+  EXPECT_EQ(flags_seen, kPoseFlagDegenerate | kPoseFlagImuUnavailable | kPoseFlagFramesSkipped |
+                            kPoseFlagOutOfOrder | kPoseFlagMapRestarted);
   ASSERT_EQ(r.keyframes.size(), static_cast<std::size_t>(kCount / 10));
   for (std::size_t j = 0; j < r.keyframes.size(); ++j) {
     expect_stamp(r.keyframes[j].header(), test::pattern_sample(10 * j).t_ns, "map");

@@ -1,7 +1,7 @@
 // `vigs echo` and `vigs topics` end to end, as separate processes: the real vigs binary against
 // PosePublisher in dds_pose_source. JSON lines parse, every pose arrives in order with its stamp
-// and covariance, no "nan"; topics lists the VIGS topics with their ROS 2 types; bad input is a
-// clear error. Domains 160-163.
+// and covariance, no "nan"; all topics include pose_quality; topics lists the VIGS topics with
+// their ROS 2 types; bad input is a clear error. Domains 160-163.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -80,6 +80,7 @@ TEST(VigsEcho, AllTopicsWithoutATopicArgument) {
   EXPECT_GT(per_topic["rt/vigs/pose"], 0);
   EXPECT_GT(per_topic["rt/vigs/odom"], 0);
   EXPECT_GT(per_topic["rt/tf"], 0);
+  EXPECT_GT(per_topic["rt/vigs/pose_quality"], 0);
 }
 
 TEST(VigsTopics, ListsTheVigsTopicsWithRos2Types) {
@@ -97,6 +98,7 @@ TEST(VigsTopics, ListsTheVigsTopicsWithRos2Types) {
   EXPECT_EQ(types["rt/tf"], "tf2_msgs/msg/TFMessage");
   EXPECT_EQ(types["rt/vigs/keyframe"], "geometry_msgs/msg/PoseStamped");
   EXPECT_EQ(types["rt/vigs/status"], "vigs_msgs/msg/Status");
+  EXPECT_EQ(types["rt/vigs/pose_quality"], "vigs_msgs/msg/PoseQuality");
 }
 
 TEST(VigsEcho, BadInputIsAClearError) {

@@ -7,8 +7,9 @@
 //    host-minus-recording offset; the trajectory maps back onto the recorded frame stamps and
 //    its ATE is within the lockstep replay's bound (tests/pipeline/test_odometry.cpp);
 //  - faults injected by the feeder, each counted and flagged, none stopping the run: the IMU
-//    silent for 1 s, corrupted serial bytes (and the status topic says so), the camera lost and
-//    back. (A frame out of order cannot leave the OpenNI2 driver, whose DeviceClock keeps
+//    silent for 1 s (and a subscriber in another process sees each pose's flags and source on
+//    the pose_quality topic), corrupted serial bytes (and the status topic says so), the camera
+//    lost and back. (A frame out of order cannot leave the OpenNI2 driver, whose DeviceClock keeps
 //    stamps increasing; the tracker's own policy is tested in test_live_tracker_faults.cpp.)
 // DDS domains 181-183, loopback, shared-memory segments cleaned up.
 #include <gtest/gtest.h>
@@ -26,6 +27,7 @@
 #include "../dds/shm_janitor.hpp"
 #include "io/json_text.hpp"
 #include "pipeline/live_pipeline.hpp"
+#include "pipeline/pose_quality.hpp"
 #include "sim_sequence.hpp"
 
 namespace vigs::pipeline {
@@ -157,11 +159,25 @@ TEST_F(ThroughDrivers, EveryPoseReachesAnotherProcessInOrderAndTheAteHolds) {
 }
 
 TEST_F(ThroughDrivers, ImuSilentForOneSecondIsFlaggedAndRecovers) {
+  const dds::test::ShmJanitor janitor;
+  config::RobotConfig cfg = drivers_config();
+  cfg.dds.enabled = true;
+  constexpr int kDomain = 182;
   LiveOptions o = options();
   o.mapping = false;
+  o.dds_domain = kDomain;
+  o.wait_for_subscribers = 1;
   o.driver_faults.imu_pause_at_ns = 2 * kS;
   o.driver_faults.imu_pause_ns = 1 * kS;
-  const LiveResult r = run_live(drivers_config(), o);
+  // Every VIGS topic (echo subscribes the pose last: matched, the pose_quality reader is too).
+  dds::test::ChildProcess echo(
+      {VIGS_BIN, "echo", "--domain", std::to_string(kDomain), "--timeout", "0"});
+  dds::test::OutputDrainer drainer(echo);
+  const LiveResult r = run_live(cfg, o);
+  drainer.stop();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ASSERT_EQ(::kill(echo.pid(), SIGINT), 0);
+  ASSERT_EQ(echo.wait(std::chrono::seconds(20)), 0) << echo.output();
   ASSERT_TRUE(r.imu_driver);
   // The feeder sent nothing for 1 s (200 samples at 200 Hz); the driver saw the counter jump.
   EXPECT_NEAR(static_cast<double>(r.feeder.imu_samples_withheld), 200.0, 1.0);
@@ -200,6 +216,36 @@ TEST_F(ThroughDrivers, ImuSilentForOneSecondIsFlaggedAndRecovers) {
   EXPECT_GE(after, 10u);
   EXPECT_FALSE(r.stopped_by_signal);
   EXPECT_TRUE(r.camera_driver->end_of_stream);
+
+  // On DDS, in another process: one PoseQuality per published pose, in order, with the pose's
+  // stamp, its frame index, source and exactly the flags the pipeline recorded, so the poses
+  // of the silence arrive flagged IMU-unavailable. The status carries the pose counts.
+  std::size_t i = 0, flagged_on_dds = 0;
+  bool status_counts = false;
+  for (const io::Json& line : json_lines(echo.output())) {
+    if (line["topic"] == "rt/vigs/status") {
+      for (const io::Json& f : line["msg"]["faults"])
+        status_counts = status_counts || f["name"] == "tracker.poses_imu_propagated";
+    }
+    if (line["topic"] != "rt/vigs/pose_quality") continue;
+    ASSERT_LT(i, r.replay.frames.size());
+    const io::Json& m = line["msg"];
+    const std::int64_t t = m["header"]["stamp"]["sec"].get<std::int64_t>() * kS +
+                           m["header"]["stamp"]["nanosec"].get<std::int64_t>();
+    EXPECT_EQ(t, r.replay.frames[i].t_ns + r.host_minus_recording_ns) << "pose " << i;
+    EXPECT_EQ(m["frame_index"].get<std::uint64_t>(), i);
+    EXPECT_EQ(m["source"].get<int>(), static_cast<int>(pose_source(r.replay.frames[i], i)))
+        << "pose " << i;
+    const auto flags = m["flags"].get<std::uint32_t>();
+    EXPECT_EQ(flags, r.pose_flags[i]) << "pose " << i;
+    flagged_on_dds += (flags & kPoseFlagImuUnavailable) != 0;
+    ++i;
+  }
+  EXPECT_EQ(i, r.replay.frames.size());
+  EXPECT_EQ(r.poses_published, r.replay.frames.size());
+  EXPECT_EQ(flagged_on_dds, r.tracker.imu_unavailable);
+  EXPECT_GE(flagged_on_dds, 5u);
+  EXPECT_TRUE(status_counts) << "no status with tracker.poses_imu_propagated";
 }
 
 TEST_F(ThroughDrivers, CorruptSerialBytesAreResyncedCountedAndInTheStatus) {

@@ -6,21 +6,27 @@
 
 namespace vigs {
 
-/// How the pose was obtained.
+/// How the pose was obtained. On DDS: PoseQuality.source (src/dds/msg/PoseQuality.msg).
 enum class PoseSource : std::uint8_t {
-  kTracked = 0,        ///< GICP (fused with the IMU prediction) against the local map
-  kImuPropagated = 1,  ///< tracking failed or no depth; pose propagated with the IMU alone
-  kInitial = 2,        ///< the first frame: the map starts here
-  kGroundTruth = 3,    ///< from a simulator or dataset
+  kTracked = 0,  ///< GICP (fused with the IMU prediction) against the local map
+  /// Tracking failed (a lost frame) or no depth: the pose is the tracker's guess, propagated
+  /// with the IMU (with a motion model when tracking.initial_guess is not imu).
+  kImuPropagated = 1,
+  kInitial = 2,      ///< the first frame: the map starts here
+  kGroundTruth = 3,  ///< from a simulator or dataset
 };
 
-/// Per-sample fault flags (bit mask), so a subscriber sees why a pose is degraded.
+/// Per-sample fault flags (bit mask), so a subscriber sees why a pose is degraded. On DDS:
+/// PoseQuality.flags, FLAG_* (src/dds/msg/PoseQuality.msg).
 enum PoseFlags : std::uint32_t {
   kPoseFlagNone = 0,
   kPoseFlagDegenerate = 1u << 0,      ///< GICP information matrix has weak directions
   kPoseFlagImuUnavailable = 1u << 1,  ///< no IMU prediction for this frame (stream stopped)
   kPoseFlagFramesSkipped = 1u << 2,   ///< the tracker skipped older frames to reach this one
   kPoseFlagOutOfOrder = 1u << 3,      ///< an out-of-order frame was discarded before this one
+  /// The tracker restarted its local map at this frame (tracking.reinit_after_lost_frames lost
+  /// frames in a row): poses before and after it are not in one consistent map.
+  kPoseFlagMapRestarted = 1u << 4,
 };
 
 struct PoseSample {
