@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "pipeline/pool_frame_view.hpp"
+#include "pipeline/pose_quality.hpp"
 #include "rt/clock.hpp"
 
 namespace vigs::pipeline {
@@ -31,11 +32,9 @@ PoseSample pose_sample(const TrackedFrame& f, std::uint64_t index, std::uint32_t
     const Eigen::Vector3d& v = odometry.inertial().velocity_w_mps();
     for (int i = 0; i < 3; ++i) p.v_w_mps[i] = v[i];
   }
-  p.source = index == 0         ? PoseSource::kInitial
-             : f.pose_from_gicp ? PoseSource::kTracked
-                                : PoseSource::kImuPropagated;
+  p.source = pose_source(f, index);
   p.keyframe = f.keyframe;
-  p.flags = flags | (f.degenerate ? kPoseFlagDegenerate : 0u);
+  p.flags = flags | frame_pose_flags(f);  // degenerate, map restarted
   return p;
 }
 

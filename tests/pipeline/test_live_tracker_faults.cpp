@@ -1,6 +1,7 @@
 // LiveTracker's backlog and fault policies, driven tick by tick on the test thread with frames
 // pushed by hand: skip to the newest frame (counted, flagged), a frame stamped before its
-// predecessor (released, counted, the next pose flagged), the end marker ending the stream.
+// predecessor (released, counted, the next pose flagged), a lost frame (propagated) and the
+// local map restarting (flagged), the end marker ending the stream.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -19,10 +20,13 @@ class LiveTrackerFaults : public ::testing::Test {
     cfg_.camera.fx_px = cfg_.camera.fy_px = 50.0;
     cfg_.camera.cx_px = 32.0;
     cfg_.camera.cy_px = 24.0;
-    LiveTrackerSettings s;
-    s.camera = PinholeCamera::from_settings(cfg_.camera);
-    s.odometry.guess = tracking::InitialGuessMode::previous_pose;  // no IMU needed
-    tracker_.emplace(cfg_, s, LiveTrackerRings{pool_, frames_, imu_, poses_, results_, nullptr});
+    settings_.camera = PinholeCamera::from_settings(cfg_.camera);
+    settings_.odometry.guess = tracking::InitialGuessMode::previous_pose;  // no IMU needed
+    make_tracker();
+  }
+  void make_tracker() {
+    tracker_.emplace(cfg_, settings_,
+                     LiveTrackerRings{pool_, frames_, imu_, poses_, results_, nullptr});
   }
 
   /// Pushes a frame (a flat wall 2 m away, grey) stamped t_ns.
@@ -43,6 +47,7 @@ class LiveTrackerFaults : public ::testing::Test {
   }
 
   config::RobotConfig cfg_;
+  LiveTrackerSettings settings_;
   rt::FramePool pool_{{.slots = 8, .width = 64, .height = 48, .colour_channels = 3}};
   rt::SpscRing<rt::FrameHandle> frames_{4};
   rt::SpscRing<ImuSample> imu_{16};
@@ -82,6 +87,27 @@ TEST_F(LiveTrackerFaults, OutOfOrderFrameIsDroppedCountedAndFlagged) {
   EXPECT_EQ(tracker_->counters().out_of_order, 1u);
   EXPECT_EQ(tracker_->counters().frames, 2u);
   EXPECT_EQ(pool_.available(), pool_.capacity());
+}
+
+// The flat wall leaves GICP a degenerate problem (a plane): with no prior, every frame after the
+// first is lost, its pose the guess; after two lost frames in a row the local map restarts.
+TEST_F(LiveTrackerFaults, LostFramesArePropagatedAndAMapRestartIsFlagged) {
+  cfg_.tracking.reinit_after_lost_frames = 2;
+  make_tracker();
+  for (int i = 0; i < 3; ++i) {
+    push(1'000'000'000 + i * 50'000'000);
+    tracker_->tick();
+  }
+  const auto p = poses();
+  ASSERT_EQ(p.size(), 3u);
+  EXPECT_EQ(p[0].source, PoseSource::kInitial);
+  EXPECT_EQ(p[1].source, PoseSource::kImuPropagated);
+  EXPECT_EQ(p[2].source, PoseSource::kImuPropagated);
+  EXPECT_NE(p[1].flags & kPoseFlagDegenerate, 0u);
+  EXPECT_EQ(p[1].flags & kPoseFlagMapRestarted, 0u);
+  EXPECT_NE(p[2].flags & kPoseFlagMapRestarted, 0u);  // the second lost frame in a row
+  EXPECT_TRUE(p[2].keyframe);                         // the restarted map's first keyframe
+  EXPECT_EQ(tracker_->odometry_counters().reinitializations, 1);
 }
 
 TEST_F(LiveTrackerFaults, EndMarkerEndsTheStream) {
