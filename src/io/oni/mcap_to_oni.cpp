@@ -28,6 +28,7 @@ struct Frame {
 
 std::vector<std::uint8_t> to_rgb(const ros_msgs::ImageView& img, const std::string& path) {
   const bool mono = img.encoding == "mono8";
+  const bool bgr = img.encoding == "bgr8";  // compared once, not per pixel
   const std::size_t bpp = mono ? 1 : 3;
   if (!mono && img.encoding != "rgb8" && img.encoding != "bgr8") {
     fail(path, "colour encoding '" + img.encoding + "' (expected rgb8, bgr8 or mono8)");
@@ -43,7 +44,7 @@ std::vector<std::uint8_t> to_rgb(const ros_msgs::ImageView& img, const std::stri
       std::uint8_t* out = &rgb[(std::size_t{y} * img.width + x) * 3];
       if (mono) {
         out[0] = out[1] = out[2] = row[x];
-      } else if (img.encoding == "bgr8") {
+      } else if (bgr) {
         out[0] = row[3 * x + 2];
         out[1] = row[3 * x + 1];
         out[2] = row[3 * x];
