@@ -1,6 +1,9 @@
 #include "tracking/tracker.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cassert>
+#include <utility>
 
 namespace vigs::tracking {
 namespace {
@@ -54,9 +57,10 @@ Tracker::Tracker(const PinholeCamera& camera, const Setting& setting, const geom
   if (moving_test_on()) {
     history_ = FrameHistory(camera, 2 * setting.moving_window_frames + 1,
                             std::max(1, setting.preprocess.depth.pixel_stride));
-    held_.resize(static_cast<std::size_t>(setting.held_keyframes()));
-    held_frame_.assign(held_.size(), 0);
-    for (Keyframe& k : held_) {
+    held_capacity_ = static_cast<std::size_t>(setting.held_keyframes());
+    held_.emplace(std::bit_ceil(held_capacity_));
+    spare_.resize(held_capacity_);
+    for (Keyframe& k : spare_) {
       k.cloud_c.reserve(n);
       k.moving.reserve(n);
     }
@@ -113,11 +117,20 @@ const GaussianCloud& Tracker::gicp_source() {
 }
 
 void Tracker::hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
-  Keyframe& k = held_[(held_head_ + held_count_) % held_.size()];
-  held_frame_[(held_head_ + held_count_) % held_.size()] = frames_;
-  ++held_count_;
-  copy_into_keyframe(cloud_, t_ns, T_w_c, k);
+  // A spare is left whenever fewer than held_capacity_ are held (the caller checks).
+  HeldKeyframe held{std::move(spare_.back()), frames_};
+  spare_.pop_back();
+  copy_into_keyframe(cloud_, t_ns, T_w_c, held.keyframe);
+  [[maybe_unused]] const bool pushed = held_->try_push(std::move(held));
+  assert(pushed && "the ring's capacity is at least held_capacity_");
   T_w_newest_kf_ = T_w_c;
+}
+
+void Tracker::drop_held_keyframes() {
+  while (HeldKeyframe* held = held_ ? held_->front() : nullptr) {
+    spare_.push_back(std::move(held->keyframe));  // within the capacity reserved at start
+    held_->pop();
+  }
 }
 
 void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
@@ -128,10 +141,12 @@ void Tracker::make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c) {
 }
 
 int Tracker::release_held_keyframe() {
-  // Swapping the slot with keyframe_ exchanges buffers of the same reserved capacity.
-  std::swap(keyframe_, held_[held_head_]);
-  held_head_ = (held_head_ + 1) % held_.size();
-  --held_count_;
+  // Swapping with keyframe_ exchanges buffers of the same reserved capacity; keyframe_'s old
+  // buffers become the spare.
+  HeldKeyframe* held = held_->front();
+  std::swap(keyframe_, held->keyframe);
+  spare_.push_back(std::move(held->keyframe));
+  held_->pop();
   const int moving = history_.flag(keyframe_.cloud_c, keyframe_.T_w_c, keyframe_.t_ns,
                                    static_cast<float>(setting_.moving_margin_m), keyframe_.moving);
   map_.insert(keyframe_.cloud_c, keyframe_.T_w_c, &keyframe_.moving);
@@ -175,7 +190,7 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
     }
     // While keyframes are held the map lacks them, so the overlap with it says nothing new:
     // only the motion since the newest keyframe counts then.
-    const double overlap = held_count_ > 0 ? 1.0 : out.gicp.overlap_ratio;
+    const double overlap = held_count() > 0 ? 1.0 : out.gicp.overlap_ratio;
     const bool new_keyframe =
         out.pose_from_gicp && policy_.is_keyframe(overlap, T_w_newest_kf_, out.T_w_c);
     lost_in_a_row_ = out.pose_from_gicp ? 0 : lost_in_a_row_ + 1;
@@ -184,7 +199,7 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
       // The old map no longer matches what the camera sees from where the guess puts it:
       // start again here, as at the first frame.
       map_.clear();
-      held_count_ = 0;
+      drop_held_keyframes();
       make_keyframe(t_ns, out.T_w_c);
       out.keyframe = true;
       out.reinitialized = true;
@@ -192,7 +207,7 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
     } else if (new_keyframe && moving_test_on()) {
       // Inserted once the frames after it are seen. (The ring cannot be full: a keyframe
       // held at frame f leaves at frame f + moving_window_frames.)
-      if (held_count_ < held_.size()) {
+      if (held_count() < held_capacity_) {
         hold_keyframe(t_ns, out.T_w_c);
         out.held = true;
       }
@@ -204,7 +219,8 @@ TrackingOutput Tracker::track(const RgbdView& frame, const geometry::Pose* T_w_c
   if (moving_test_on()) {
     history_.record(frame, out.T_w_c, out.pose_from_gicp || frames_ == 0);
     // At most one completes per frame: held keyframes come from distinct frames.
-    if (held_count_ > 0 && frames_ - held_frame_[held_head_] >= setting_.moving_window_frames) {
+    const HeldKeyframe* oldest = held_->front();
+    if (oldest != nullptr && frames_ - oldest->frame >= setting_.moving_window_frames) {
       out.moving_points = release_held_keyframe();
       out.keyframe = true;
     }

@@ -11,8 +11,12 @@
 // InitialGuessMode::imu the IMU-propagated pose — flagged `pose_from_gicp = false`, and it
 // does not become a keyframe.
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string_view>
+#include <vector>
+
+#include "rt/spsc_ring.hpp"
 
 #include "tracking/frame_history.hpp"
 #include "tracking/gicp.hpp"
@@ -100,7 +104,7 @@ class Tracker {
   [[nodiscard]] const Keyframe& last_keyframe() const { return keyframe_; }
   /// How many keyframes can be held at once (moving_window_frames + 1 with the moving test on,
   /// 0 without): what a caller keeping held frames' images must have room for.
-  [[nodiscard]] std::size_t held_capacity() const { return held_.size(); }
+  [[nodiscard]] std::size_t held_capacity() const { return held_capacity_; }
   [[nodiscard]] const LocalMap& local_map() const { return map_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
   /// Keyframes whose moving test would have flagged most points (taken as a pose error).
@@ -113,13 +117,17 @@ class Tracker {
 
  private:
   geometry::Pose guess(std::int64_t t_ns, const geometry::Pose* T_w_c_imu, bool& fell_back) const;
-  /// Copies the frame's cloud into a free slot of held_ (not yet into the map).
+  /// Copies the frame's cloud into a spare keyframe and queues it in held_ (not yet into the
+  /// map).
   void hold_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
   /// Copies the frame's cloud into keyframe_ and inserts it into the local map at once.
   void make_keyframe(std::int64_t t_ns, const geometry::Pose& T_w_c);
   /// The oldest held keyframe, once moving_window_frames frames after it are seen: flags its
   /// moving points, inserts it into the local map and makes it keyframe_. Returns its flags.
   int release_held_keyframe();
+  /// Drops every held keyframe (map restarted), their buffers back to spare_.
+  void drop_held_keyframes();
+  [[nodiscard]] std::size_t held_count() const { return held_ ? held_->size() : 0; }
   [[nodiscard]] bool moving_test_on() const { return setting_.moving_test_on(); }
 
   Setting setting_;
@@ -135,14 +143,22 @@ class Tracker {
   GaussianCloud cloud_;
   GaussianCloud source_;  ///< points and covariances of cloud_'s GICP subset
   Keyframe keyframe_;     ///< the last keyframe inserted into the map (last_keyframe())
-  /// Moving test: keyframes waiting for the frames after them, oldest first, in a ring of
-  /// moving_window_frames + 1 slots sized at construction (a keyframe at most every frame).
-  /// While they wait, tracking goes on and further keyframes are held: a quick turn does not
-  /// leave the map behind the camera.
-  std::vector<Keyframe> held_;
-  std::vector<int> held_frame_;  ///< frames_ index of each held slot
-  std::size_t held_head_ = 0;
-  std::size_t held_count_ = 0;
+  /// A keyframe waiting for the frames after it, and the frames_ index of its own frame.
+  struct HeldKeyframe {
+    Keyframe keyframe;
+    int frame = 0;
+  };
+  /// Moving test: keyframes waiting for the frames after them, oldest first; at most
+  /// held_capacity_ = moving_window_frames + 1 (a keyframe at most every frame; the ring's own
+  /// capacity is that rounded up to a power of two). While they wait, tracking goes on and
+  /// further keyframes are held: a quick turn does not leave the map behind the camera. This
+  /// thread is both ends of the ring.
+  std::optional<rt::SpscRing<HeldKeyframe>> held_;
+  std::size_t held_capacity_ = 0;
+  /// Keyframes with buffers reserved for a whole frame at construction, moved into held_ when
+  /// one is held and back when it is released or dropped: the ring constructs and destroys its
+  /// elements, so the buffers travel instead of being allocated per keyframe.
+  std::vector<Keyframe> spare_;
   geometry::Pose T_w_newest_kf_ = geometry::Pose::Identity();  ///< held or inserted
   PinholeCamera camera_;
   PosePrior prior_;

@@ -8,8 +8,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "../common/temp_files.hpp"
 #include "process.hpp"
 
 namespace vigs::dds {
@@ -18,9 +20,13 @@ namespace {
 using namespace std::chrono_literals;
 
 nlohmann::json probe(const char* mode, int domain) {
+  // The probe writes its config file there; the folder goes when the probe is done.
+  vigs::test::TempFiles files("dds_netns");
+  const std::string workdir = files.path(mode);
+  std::filesystem::create_directories(workdir);
   test::ChildProcess p({VIGS_DDS_NETNS_PROBE, "--mode", mode, "--domain", std::to_string(domain),
                         "--source", VIGS_DDS_POSE_SOURCE, "--sink", VIGS_DDS_POSE_SINK, "--workdir",
-                        ::testing::TempDir()});
+                        workdir});
   const int rc = p.wait(180s);
   EXPECT_EQ(rc, 0) << p.output();
   return nlohmann::json::parse(p.output());

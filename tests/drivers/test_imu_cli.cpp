@@ -7,13 +7,16 @@
 #include <regex>
 #include <string>
 
+#include "../common/temp_files.hpp"
 #include "drivers/serial_imu/euroc_imu_csv.hpp"
 
 namespace vigs::drivers {
 namespace {
 
+// Removed when the test program exits, passed or failed.
 std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "/" + name + "_" + std::to_string(::getpid());
+  static vigs::test::TempFiles files("imu_cli");
+  return files.path(name);
 }
 
 std::string read_all(FILE* f) {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "../common/counting_new.hpp"
+#include "../common/temp_files.hpp"
 #include "drivers/openni2/openni2_driver.hpp"
 #include "io/oni/oni_clip_writer.hpp"
 
@@ -55,8 +56,8 @@ using namespace std::chrono_literals;
 TEST(Openni2Driver, ReadLoopDoesNotAllocateAfterTheFirstFrames) {
   constexpr std::uint32_t w = 64, h = 48;
   constexpr int kFrames = 40;
-  const std::string path =
-      ::testing::TempDir() + "/openni2_alloc_" + std::to_string(::getpid()) + ".oni";
+  vigs::test::TempFiles files("openni2_alloc");  // removes the clip however the test ends
+  const std::string path = files.path("clip.oni");
   {
     io::oni::OniClipWriter writer(path, {w, h, 30});
     std::vector<std::uint16_t> depth(w * h);

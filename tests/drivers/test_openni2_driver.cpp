@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "../common/temp_files.hpp"
 #include "drivers/openni2/openni2_driver.hpp"
 #include "io/oni/oni_clip_writer.hpp"
 #include "rt/frame_pool.hpp"
@@ -38,8 +39,10 @@ std::uint8_t rgb_at(std::uint64_t f, std::uint32_t x, std::uint32_t y, int c) {
   return static_cast<std::uint8_t>(c == 0 ? 3 * x + 7 * f : c == 1 ? 5 * y + 11 * f : x ^ y ^ f);
 }
 
+// Removed when the test program exits, passed or failed.
 std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "/openni2_" + std::to_string(::getpid()) + "_" + name;
+  static vigs::test::TempFiles files("openni2");
+  return files.path(name);
 }
 
 std::string write_clip(const std::string& name, int frames, std::uint32_t w = kW,

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/temp_files.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/oni/oni_clip_writer.hpp"
 #include "io/ros_msgs/imu.hpp"
@@ -25,8 +26,10 @@
 namespace vigs::drivers {
 namespace {
 
+// Removed when the test program exits, passed or failed.
 std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "/record_" + std::to_string(::getpid()) + "_" + name;
+  static vigs::test::TempFiles files("record");
+  return files.path(name);
 }
 
 using test_cli::run_output;
@@ -193,7 +196,6 @@ TEST(RecordCli, SigkillLeavesAFileReadableToItsLastChunk) {
   EXPECT_EQ(allowed_status, 0) << allowed;
   EXPECT_NE(allowed.find("damaged recording (truncated"), std::string::npos) << allowed;
   EXPECT_EQ(::access((results + "/trajectory.tum").c_str(), R_OK), 0) << allowed;
-  std::filesystem::remove_all(results);
 }
 
 TEST(Recorder, WritesEdgesSerialBytesAndImuAsTheirMessages) {

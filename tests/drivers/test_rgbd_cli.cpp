@@ -10,14 +10,17 @@
 #include <string>
 #include <vector>
 
+#include "../common/temp_files.hpp"
 #include "io/oni/oni_clip_writer.hpp"
 #include "tests/common/cli_process.hpp"
 
 namespace vigs::drivers {
 namespace {
 
+// Removed when the test program exits, passed or failed.
 std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "/rgbd_cli_" + std::to_string(::getpid()) + "_" + name;
+  static vigs::test::TempFiles files("rgbd_cli");
+  return files.path(name);
 }
 
 using test_cli::run_output;

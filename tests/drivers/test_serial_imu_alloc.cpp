@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../common/counting_new.hpp"
+#include "../common/temp_files.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "pty_feeder.hpp"
 #include "rt/clock.hpp"
@@ -45,7 +46,8 @@ TEST(SerialImuDriver, ReadLoopDoesNotAllocate) {
   test::Pty pty;
   // Through a symlink (a /dev/pts path is never reopened), moved to a dangling target before the
   // hang-up so that reopen attempts fail instead of finding a reused pty number.
-  const std::string link = ::testing::TempDir() + "/imu_alloc_" + std::to_string(::getpid());
+  vigs::test::TempFiles files("imu_alloc");  // the symlink goes however the test ends
+  const std::string link = files.path("tty");
   ::unlink(link.c_str());
   ASSERT_EQ(::symlink(pty.slave_path().c_str(), link.c_str()), 0);
   rt::SpscRing<ImuSample> ring(16);  // small: the drop path runs too

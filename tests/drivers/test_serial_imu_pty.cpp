@@ -10,6 +10,7 @@
 #include <system_error>
 #include <thread>
 
+#include "../common/temp_files.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "drivers/serial_imu/serial_port.hpp"
 #include "pty_feeder.hpp"
@@ -207,7 +208,8 @@ TEST(SerialImuPty, RestartTakesANewDeviceTimeBase) {
 TEST(SerialImuPty, ReopensWhenTheDeviceComesBackUnderItsName) {
   // A USB adapter unplugged and plugged in again: its udev name (here a symlink) now points to a
   // new tty. The driver reopens the path and carries on with a new device time base.
-  const std::string link = ::testing::TempDir() + "/imu_link_" + std::to_string(::getpid());
+  vigs::test::TempFiles files("imu_link");  // the symlink goes however the test ends
+  const std::string link = files.path("tty");
   ::unlink(link.c_str());
   test::Pty first;
   ASSERT_EQ(::symlink(first.slave_path().c_str(), link.c_str()), 0);

@@ -225,6 +225,85 @@ TEST_F(OniPlayback, McapRecordingBecomesAClipThatOpenNI2Plays) {
   device.close();
 }
 
+// A colour (rgb8) or depth (16UC1) image of frame `f`, stamped 1 s + 50 ms * f.
+ros_msgs::Image pair_half(int f, bool colour) {
+  constexpr std::uint32_t w = 8, h = 6;
+  ros_msgs::Image img;
+  img.header.stamp = ros_msgs::Time::from_ns(1'000'000'000 + 50'000'000ll * f);
+  img.width = w;
+  img.height = h;
+  img.encoding = colour ? "rgb8" : "16UC1";
+  img.step = w * (colour ? 3 : 2);
+  for (std::uint32_t y = 0; y < h; ++y) {
+    for (std::uint32_t x = 0; x < w; ++x) {
+      if (colour) {
+        for (int c = 0; c < 3; ++c) img.data.push_back(rgb_at(f, x, y, c));
+      } else {
+        const std::uint16_t d = depth_at(f, x, y);
+        img.data.push_back(static_cast<std::uint8_t>(d & 0xff));
+        img.data.push_back(static_cast<std::uint8_t>(d >> 8));
+      }
+    }
+  }
+  return img;
+}
+
+// Frames 0-2 as colour/depth pairs on /cam/rgb and /cam/depth, then a colour image of frame 3
+// without depth. The message `cut` (its index in that order, -1 = none) loses the last 10 bytes
+// of its pixels: its leading fields are intact, its `data` is shorter than its length says.
+void write_pairs_with_cut_pixels(const std::string& path, int cut) {
+  mcap::McapWriter writer(path);
+  const auto c_rgb = ros_msgs::add_channel<ros_msgs::Image>(writer, "/cam/rgb");
+  const auto c_depth = ros_msgs::add_channel<ros_msgs::Image>(writer, "/cam/depth");
+  std::vector<std::uint8_t> buf;
+  for (int i = 0; i < 7; ++i) {
+    const int f = i / 2;
+    const bool colour = i % 2 == 0;
+    ros_msgs::encode(pair_half(f, colour), ros_msgs::Encoding::kCdr, buf);
+    if (i == cut) buf.resize(buf.size() - 10);
+    const auto log_t = static_cast<std::uint64_t>(i + 1);
+    writer.write(colour ? c_rgb : c_depth, log_t, log_t, buf);
+  }
+  writer.close();
+}
+
+oni::McapToOniOptions cam_topics() {
+  oni::McapToOniOptions options;
+  options.rgb_topic = "/cam/rgb";
+  options.depth_topic = "/cam/depth";
+  return options;
+}
+
+TEST(McapToOni, ReadsNoPixelsOfImagesItDoesNotConvert) {
+  // The first pass reads stamps and sizes only, and the second reads the pixels of the pairs
+  // only: the cut pixels of the colour image without depth are never looked at.
+  const std::string mcap_path = test::temp_path("cut_unpaired.mcap");
+  const std::string oni_path = test::temp_path("cut_unpaired.oni");
+  write_pairs_with_cut_pixels(mcap_path, 6);
+  const oni::McapToOniResult result = oni::make_oni_from_mcap(mcap_path, oni_path, cam_topics());
+  EXPECT_EQ(result.frames, 3u);
+  EXPECT_EQ(result.unmatched, 1u);
+  EXPECT_TRUE(std::filesystem::exists(oni_path));
+}
+
+TEST(McapToOni, CutPixelsOfAPairAreAnErrorNamingTheFileTopicAndField) {
+  // Frame 1's depth: the first pass (leading fields) takes it for a pair, the second pass
+  // finds its pixels short.
+  const std::string mcap_path = test::temp_path("cut_pair.mcap");
+  const std::string oni_path = test::temp_path("cut_pair.oni");
+  write_pairs_with_cut_pixels(mcap_path, 3);
+  try {
+    (void)oni::make_oni_from_mcap(mcap_path, oni_path, cam_topics());
+    FAIL() << "no error";
+  } catch (const IoError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(mcap_path), std::string::npos) << what;
+    EXPECT_NE(what.find("/cam/depth image stamped 1050000000 ns"), std::string::npos) << what;
+    EXPECT_NE(what.find("field 'data'"), std::string::npos) << what;
+  }
+  EXPECT_FALSE(std::filesystem::exists(oni_path));  // whole or untouched
+}
+
 TEST(OniClipWriter, RejectsBadFramesAndSettings) {
   EXPECT_THROW(oni::OniClipWriter(test::temp_path("bad.oni"), {0, 10, 30}), IoError);
   oni::OniClipWriter w(test::temp_path("bad.oni"), {4, 4, 30});

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "../common/temp_files.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/ply_io.hpp"
@@ -17,11 +18,10 @@
 namespace vigs::mapping {
 namespace {
 
+// Removed when the test program exits, passed or failed.
 std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() /
-          ("vigs_mapping_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-           "_" + name))
-      .string();
+  static vigs::test::TempFiles files("vigs_mapping");
+  return files.path(name);
 }
 
 TEST(MappingPly, RoundTripIsExact) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/temp_files.hpp"
 #include "mapping/ply_io.hpp"
 #include "test_scene.hpp"
 
@@ -26,9 +27,8 @@ TEST(MappingSplatTool, PlyOpensInPlaycanvasSplatTransform) {
   if (std::system("node --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "node not installed";
   if (!std::filesystem::exists(cli))
     GTEST_SKIP() << "run `npm ci --prefix tests/mapping/splat_tool` to install splat-transform";
-  const auto dir =
-      std::filesystem::temp_directory_path() /
-      ("vigs_splat_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  vigs::test::TempFiles files("vigs_splat");  // the folder goes however the test ends
+  const std::filesystem::path dir = files.path("dir");
   std::filesystem::create_directories(dir);
   const GaussianMap g = test::random_gaussians<float>(25, 13);
   const std::string ply = (dir / "map.ply").string(), csv = (dir / "map.csv").string();
@@ -66,7 +66,6 @@ TEST(MappingSplatTool, PlyOpensInPlaycanvasSplatTransform) {
     ++i;
   }
   EXPECT_EQ(i, g.size());
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../common/temp_files.hpp"
 #include "pipeline/results_dir.hpp"
 
 namespace vigs::pipeline {
@@ -41,7 +42,8 @@ TEST(RunStats, MalformedInputNamesFileAndOffsetOrKey) {
 }
 
 TEST(Keyframes, RoundTripAndLineErrors) {
-  const std::string path = ::testing::TempDir() + "vigs_kf_" + std::to_string(getpid()) + ".txt";
+  vigs::test::TempFiles files("vigs_kf");  // removed also when an assertion ends the test
+  const std::string path = files.path("keyframes.txt");
   const std::vector<double> t = {0.1, 0.30000000000000004, 1.25};
   {
     std::ofstream out(path);

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 
+#include "../common/temp_files.hpp"
 #include "io/mcap/mcap_reader.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
@@ -96,8 +97,8 @@ TEST(Simulator, StreamsAtTheConfiguredRatesInTimeOrderAndDeterministically) {
 }
 
 TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
-  const std::string path =
-      ::testing::TempDir() + "vigs_sim_test_" + std::to_string(getpid()) + ".mcap";
+  vigs::test::TempFiles files("vigs_sim_test");  // removed however the test ends
+  const std::string path = files.path("rec.mcap");
   Simulator sim(one_second());
   McapSinkOptions opt;
   McapSink sink(path, opt);
@@ -141,12 +142,11 @@ TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
   EXPECT_EQ(pose.header.stamp.to_ns(), 1'000'000'000);
   EXPECT_DOUBLE_EQ(pose.pose.position.x, mem.gt.back().translation().x());
   EXPECT_DOUBLE_EQ(imu.angular_velocity.z, mem.imu_samples.back().gyro_rps[2]);
-  std::remove(path.c_str());
 }
 
 TEST(Simulator, GrayAnd32FC1DepthThroughTheMcapSink) {
-  const std::string path =
-      ::testing::TempDir() + "vigs_sim_gray_" + std::to_string(getpid()) + ".mcap";
+  vigs::test::TempFiles files("vigs_sim_gray");  // removed however the test ends
+  const std::string path = files.path("rec.mcap");
   config::RobotConfig cfg = one_second();
   cfg.sim.seconds = 0.1;
   cfg.sim.gray = true;
@@ -175,7 +175,6 @@ TEST(Simulator, GrayAnd32FC1DepthThroughTheMcapSink) {
   std::vector<float> metres(720 * 480);
   std::memcpy(metres.data(), depth.data.data(), depth.data.size());
   EXPECT_EQ(metres, mem.last_depth);  // bit-exact
-  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include "io/mcap/mcap_reader.hpp"
 #include "io/oni/oni_clip_writer.hpp"
 #include "io/output_guard.hpp"
-#include "io/ros_msgs/image.hpp"
+#include "io/ros_msgs/image_view.hpp"
 #include "io/ros_msgs/typed_io.hpp"
 
 namespace vigs::io::oni {
@@ -26,8 +26,9 @@ struct Frame {
   throw IoError("MCAP to ONI: " + path + ": " + what);
 }
 
-std::vector<std::uint8_t> to_rgb(const ros_msgs::Image& img, const std::string& path) {
+std::vector<std::uint8_t> to_rgb(const ros_msgs::ImageView& img, const std::string& path) {
   const bool mono = img.encoding == "mono8";
+  const bool bgr = img.encoding == "bgr8";  // compared once, not per pixel
   const std::size_t bpp = mono ? 1 : 3;
   if (!mono && img.encoding != "rgb8" && img.encoding != "bgr8") {
     fail(path, "colour encoding '" + img.encoding + "' (expected rgb8, bgr8 or mono8)");
@@ -43,7 +44,7 @@ std::vector<std::uint8_t> to_rgb(const ros_msgs::Image& img, const std::string& 
       std::uint8_t* out = &rgb[(std::size_t{y} * img.width + x) * 3];
       if (mono) {
         out[0] = out[1] = out[2] = row[x];
-      } else if (img.encoding == "bgr8") {
+      } else if (bgr) {
         out[0] = row[3 * x + 2];
         out[1] = row[3 * x + 1];
         out[2] = row[3 * x];
@@ -55,7 +56,7 @@ std::vector<std::uint8_t> to_rgb(const ros_msgs::Image& img, const std::string& 
   return rgb;
 }
 
-std::vector<std::uint16_t> to_depth_mm(const ros_msgs::Image& img, const std::string& path) {
+std::vector<std::uint16_t> to_depth_mm(const ros_msgs::ImageView& img, const std::string& path) {
   const bool mm = img.encoding == "16UC1" || img.encoding == "mono16";
   const bool metres = img.encoding == "32FC1";
   if (!mm && !metres) {
@@ -91,7 +92,8 @@ std::vector<std::uint16_t> to_depth_mm(const ros_msgs::Image& img, const std::st
 namespace {
 
 // The messages read (in file order) and the colour/depth pairs among them, from a first pass
-// that reads stamps and checks sizes without keeping any image.
+// that reads stamps and checks sizes from the images' leading fields only (ImageMeta): no
+// pixel byte is copied or checked, that is the second pass's work.
 struct PairPlan {
   std::size_t messages = 0;          // messages of the two topics read, the last one included
   std::vector<std::int64_t> stamps;  // complete pairs, ascending
@@ -106,7 +108,7 @@ PairPlan plan_pairs(const std::string& mcap_path, const McapToOniOptions& option
   std::map<std::int64_t, std::uint8_t> halves;  // by header stamp: bit 0 colour, bit 1 depth
   PairPlan plan;
   mcap::MessageView m;
-  ros_msgs::Image img;
+  ros_msgs::ImageMeta img;
   std::size_t complete = 0;
   while (complete < options.max_frames && reader.next(m)) {
     ++plan.messages;
@@ -182,12 +184,25 @@ McapToOniResult make_oni_from_mcap(const std::string& mcap_path, const std::stri
   std::map<std::int64_t, Frame> pending;  // pairs (or halves) not yet written, by stamp
   std::size_t next = 0;                   // plan.stamps[next] is the next pair to write
   mcap::MessageView m;
-  ros_msgs::Image img;
+  ros_msgs::ImageMeta meta;
+  ros_msgs::ImageView img;
   for (std::size_t k = 0; k < plan.messages && next < plan.stamps.size() && reader.next(m); ++k) {
-    if (!ros_msgs::decode_message(m, img)) fail(mcap_path, m.channel->topic + " is not an Image");
-    const std::int64_t t_ns = img.header.stamp.to_ns();
+    // The stamp first: the pixels of images that are not converted are not read.
+    try {
+      if (!ros_msgs::decode_message(m, meta))
+        fail(mcap_path, m.channel->topic + " is not an Image");
+    } catch (const ros_msgs::DecodeError& e) {
+      fail(mcap_path, m.channel->topic + ": " + e.what());
+    }
+    const std::int64_t t_ns = meta.header.stamp.to_ns();
     if (!std::binary_search(plan.stamps.begin() + static_cast<long>(next), plan.stamps.end(), t_ns))
       continue;  // not a pair (or written already)
+    try {
+      ros_msgs::decode_message(m, img);
+    } catch (const ros_msgs::DecodeError& e) {
+      fail(mcap_path,
+           m.channel->topic + " image stamped " + std::to_string(t_ns) + " ns: " + e.what());
+    }
     Frame& f = pending[t_ns];
     if (m.channel->topic == options.rgb_topic && !f.has_rgb) {
       f.rgb = to_rgb(img, mcap_path);

@@ -148,6 +148,14 @@ class Decoder {
     align(name, sizeof(T));
     take(name, a.data(), N * sizeof(T));
   }
+  /// A byte sequence viewed in place (no copy): valid while the decoded bytes are.
+  void operator()(const char* name, std::span<const std::uint8_t>& v) {
+    std::uint32_t n = 0;
+    get(name, n);
+    if (n > remaining()) fail(name, "sequence of " + std::to_string(n) + " elements does not fit");
+    v = in_.subspan(pos_, n);
+    pos_ += n;
+  }
   /// Call after the last field: only CDR alignment padding may be left.
   void finish() {
     if (remaining() > (Ros1 ? 0u : 7u)) {
@@ -216,6 +224,19 @@ void decode_with(std::span<const std::uint8_t> bytes, Encoding encoding, Msg& ms
     Decoder<false> ar(bytes, MessageTraits<Msg>::kRos2Name);
     visit(ar, msg);
     ar.finish();
+  }
+}
+
+/// Like decode_with but for the leading fields only: the bytes after them are not read or checked.
+template <class Msg, class Visit>
+void decode_prefix_with(std::span<const std::uint8_t> bytes, Encoding encoding, Msg& msg,
+                        Visit visit) {
+  if (encoding == Encoding::kRos1) {
+    Decoder<true> ar(bytes, MessageTraits<Msg>::kRos1Name);
+    visit(ar, msg);
+  } else {
+    Decoder<false> ar(bytes, MessageTraits<Msg>::kRos2Name);
+    visit(ar, msg);
   }
 }
 

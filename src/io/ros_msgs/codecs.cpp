@@ -2,6 +2,7 @@
 #include "io/ros_msgs/archive.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
+#include "io/ros_msgs/image_view.hpp"
 #include "io/ros_msgs/imu.hpp"
 #include "io/ros_msgs/odometry.hpp"
 #include "io/ros_msgs/pose_stamped.hpp"
@@ -45,5 +46,12 @@ VIGS_ROS_MSG_CODEC(SerialChunk, VisitSerialChunk)
 VIGS_ROS_MSG_CODEC(TimeReference, VisitTimeReference)
 
 #undef VIGS_ROS_MSG_CODEC
+
+void decode(std::span<const std::uint8_t> bytes, Encoding encoding, ImageMeta& out) {
+  detail::decode_prefix_with(bytes, encoding, out, detail::VisitImageMeta{});
+}
+void decode(std::span<const std::uint8_t> bytes, Encoding encoding, ImageView& out) {
+  detail::decode_with(bytes, encoding, out, detail::VisitImage{});
+}
 
 }  // namespace vigs::io::ros_msgs

@@ -22,7 +22,8 @@ void visit_quaternion(Ar& ar, Q& q) {
   ar("orientation.w", q.w);
 }
 
-struct VisitImage {
+/// Image's fields before `data` (ImageMeta reads only these).
+struct VisitImageMeta {
   template <class Ar, class M>
   void operator()(Ar& ar, M& m) const {
     detail::visit_header(ar, m.header);
@@ -31,6 +32,13 @@ struct VisitImage {
     ar("encoding", m.encoding);
     ar("is_bigendian", m.is_bigendian);
     ar("step", m.step);
+  }
+};
+
+struct VisitImage {
+  template <class Ar, class M>
+  void operator()(Ar& ar, M& m) const {
+    VisitImageMeta{}(ar, m);
     ar("data", m.data);
   }
 };
