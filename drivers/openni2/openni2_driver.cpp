@@ -14,6 +14,7 @@
 #include "core/config/camera_settings.hpp"
 #include "core/config/rt_settings.hpp"
 #include "rt/clock.hpp"
+#include "rt/poll.hpp"
 #include "rt/queue_policy.hpp"
 #include "rt/thread_table.hpp"
 
@@ -524,10 +525,7 @@ void Openni2Driver::emit_pair() noexcept {
 void Openni2Driver::hold_until_due(std::int64_t t_device_ns) noexcept {
   const std::int64_t due_ns = pacer_.due_ns(t_device_ns, rt::monotonic_ns());
   // In wait_timeout_ms steps, so stop() stays as prompt as in the read loop.
-  for (std::int64_t now_ns = rt::monotonic_ns(); now_ns < due_ns; now_ns = rt::monotonic_ns()) {
-    if (stop_ != nullptr && stop_->stop_requested()) return;
-    rt::sleep_until_ns(std::min(due_ns, now_ns + rt::ms_to_ns(settings_.wait_timeout_ms)));
-  }
+  (void)rt::sleep_until_or_stop(due_ns, *stop_, rt::ms_to_ns(settings_.wait_timeout_ms));
 }
 
 void Openni2Driver::finish_stream(const std::stop_token& stop) noexcept {

@@ -26,6 +26,7 @@ namespace fs = std::filesystem;
 
 constexpr std::int64_t kTickNs = 100'000;  // Xsens SampleTimeFine: 10 kHz
 constexpr std::int64_t kLateNs = 1'000'000;
+constexpr std::int64_t kWaitStepNs = 20'000'000;  // the feeder's sleeps: stop within this
 
 io::oni::McapToOniOptions clip_options(std::int64_t max_frames) {
   io::oni::McapToOniOptions o;
@@ -42,16 +43,6 @@ std::string make_temp_dir() {
   if (::mkdtemp(pattern.data()) == nullptr)
     throw std::system_error(errno, std::generic_category(), "mkdtemp " + pattern);
   return pattern;
-}
-
-// Sleeps until host time t_ns in steps of at most 20 ms; false when stop was requested.
-bool sleep_until(std::int64_t t_ns, const std::stop_token& stop) {
-  while (!stop.stop_requested()) {
-    const std::int64_t now = rt::monotonic_ns();
-    if (now >= t_ns) return true;
-    rt::sleep_until_ns(std::min(t_ns, now + rt::ms_to_ns(20)));
-  }
-  return false;
 }
 
 bool fresh(const fs::path& clip, const fs::path& recording) {
@@ -193,13 +184,13 @@ void DriverReplay::run(const std::stop_token& stop, const drivers::Openni2Driver
   for (const ImuSample& s : imu_) {
     if (!unplugged && s.t_ns >= gone_t_ns) {
       // Unplugged: the open clip stalls where it was cut, and reopening finds no device.
-      if (!sleep_until(gone_t_ns + offset_ns, stop)) return;
+      if (!rt::sleep_until_or_stop(gone_t_ns + offset_ns, stop, kWaitStepNs)) return;
       std::error_code ec;
       fs::remove(clip_path_, ec);
       unplugged = true;
     }
     if (!returned && s.t_ns >= return_t_ns_) {
-      if (!sleep_until(return_t_ns_ + offset_ns, stop)) return;
+      if (!rt::sleep_until_or_stop(return_t_ns_ + offset_ns, stop, kWaitStepNs)) return;
       std::error_code ec;
       fs::rename(return_clip_path_, clip_path_, ec);  // the camera is back
       if (ec)
@@ -209,7 +200,7 @@ void DriverReplay::run(const std::stop_token& stop, const drivers::Openni2Driver
     }
     const std::int64_t host_ns = s.t_ns + offset_ns;
     if (rt::monotonic_ns() > host_ns + kLateNs) late_.add();
-    if (!sleep_until(host_ns, stop)) return;
+    if (!rt::sleep_until_or_stop(host_ns, stop, kWaitStepNs)) return;
     if (f.imu_pause_at_ns >= 0 && s.t_ns >= pause_from && s.t_ns < pause_to) {
       withheld_.add();
       continue;
