@@ -274,7 +274,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       }
       const std::uint64_t index = out.replay.frames.size();
       if (taps && !taps->poses.try_push(recorded_pose(r, index))) ++taps->pose_drops;
-      pose_quality.add(pose_source(r.frame, index), r.flags | frame_pose_flags(r.frame));
+      pose_quality.add(pose_source(r.frame, index), r.flags);  // the pose's flags, frame's included
       out.replay.frames.push_back(r.frame);
       out.pose_flags.push_back(r.flags);
       track_ms.push_back(static_cast<float>(rt::ns_to_ms(r.track_ns)));
