@@ -30,20 +30,20 @@ std::uint64_t GaussianInserter::key(const Eigen::Vector3d& p_w) const {
   return cell(p_w.x()) | (cell(p_w.y()) << 21) | (cell(p_w.z()) << 42);
 }
 
+std::uint64_t GaussianInserter::key_of(const GaussianMap& map, std::size_t i) const {
+  return key(Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2]));
+}
+
 void GaussianInserter::rebuild(const GaussianMap& map) {
   occupied_.clear();
   occupied_.reserve(map.size());
-  for (std::size_t i = 0; i < map.size(); ++i)
-    occupied_.insert(
-        key(Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2])));
+  for (std::size_t i = 0; i < map.size(); ++i) occupied_.insert(key_of(map, i));
 }
 
 void GaussianInserter::forget(const GaussianMap& map, const std::vector<char>& keep) {
   const std::size_t n = std::min(map.size(), keep.size());
   for (std::size_t i = 0; i < n; ++i) {
-    if (keep[i]) continue;
-    occupied_.erase(
-        key(Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2])));
+    if (!keep[i]) occupied_.erase(key_of(map, i));
   }
 }
 

@@ -50,6 +50,7 @@ class GaussianInserter {
 
  private:
   [[nodiscard]] std::uint64_t key(const Eigen::Vector3d& p_w) const;
+  [[nodiscard]] std::uint64_t key_of(const GaussianMap& map, std::size_t i) const;  ///< i's mean
 
   InsertSettings s_;
   std::unordered_set<std::uint64_t> occupied_;
