@@ -66,6 +66,7 @@ struct InertialFrontendCounters {
   long samples_dropped = 0;       ///< oldest queued sample dropped because the ring was full
   long extrapolated = 0;          ///< frame time beyond the newest sample: reading held
   long resets = 0;
+  long restarts = 0;  ///< restart(): the motion state forgotten (the tracker restarted its map)
 };
 
 class InertialFrontend {
@@ -103,6 +104,16 @@ class InertialFrontend {
   /// Fused-mode covariance of [dtheta, dp, dv, dbg, dba] at the last update.
   [[nodiscard]] const Mat15& state_covariance() const { return P_; }
   [[nodiscard]] const Eigen::Vector3d& velocity_w_mps() const { return state_.v_w_b_mps; }
+
+  /// Forgets the motion state, keeping the samples and the bias estimates: the next
+  /// reset_from_tracked / update_fused starts again as at the first frame (that pose exact, the
+  /// body at rest, the fused covariance at its initial sigmas). For a tracker that restarted its
+  /// map after losing the track: the velocity the IMU alone carried through the lost frames has
+  /// diverged, and every guess from it would lose the new map at once.
+  void restart() noexcept {
+    started_ = false;
+    ++counters_.restarts;
+  }
 
   /// Biases used for the next interval; setting them before the first reset seeds them.
   void set_biases(const Eigen::Vector3d& gyro_rps, const Eigen::Vector3d& accel_mps2);

@@ -158,7 +158,12 @@ TrackedFrame Odometry::track(const RgbdView& frame) {
   // at the first frame, which defines the start). A lost frame's pose is the IMU guess itself,
   // so resetting from it would only restart the integration from its own prediction and lose
   // the velocity; instead the IMU keeps propagating from the last good frame.
-  if (imu_mode && (first || out.pose_from_gicp)) {
+  // A map restart after lost frames starts the IMU state again too, as at the first frame (at
+  // rest, at the restart pose): the velocity it carried through the lost frames is what lost
+  // them, and a guess from it misses the new map at once (measured: with the old velocity kept,
+  // a restarted fused run was lost again at the next frame, 287 restarts in 3 minutes).
+  if (imu_mode && out.reinitialized) inertial_.restart();
+  if (imu_mode && (first || out.pose_from_gicp || out.reinitialized)) {
     if (fused) {
       if (inertial_.update_fused(t_ns, out.T_w_c, out.information)) {
         ++counters_.imu_resets;

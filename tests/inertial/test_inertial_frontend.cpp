@@ -118,6 +118,37 @@ TEST(InertialFrontend, PaperVelocityResetLagsByHalfAFrameButStaysClose) {
   EXPECT_LT(e.max_rotation_deg, 1e-3);
 }
 
+// restart() forgets the motion: the next reset starts at rest at its pose, as the first one
+// did, keeping the samples (a guess follows at once) and the gyro-bias estimate.
+TEST(InertialFrontend, RestartStartsAgainAtRestAtTheNextTrackedPose) {
+  Scenario sc;
+  InertialFrontend f(sc.options);
+  run(sc, f, 20);
+  ASSERT_GT(f.velocity_w_mps().norm(), 0.1);  // the synthetic body moves at ~1 m/s
+  const Vector3d bias = f.bias_gyro_rps();
+  f.restart();
+  const std::int64_t t = frame_time(20);
+  sc.feed(f, t);
+  EXPECT_FALSE(f.predict_camera_pose(t).has_value()) << "no state until the next reset";
+  const Pose T_w_c = sc.T_w_c(t) * Pose(Eigen::Translation3d(0.5, 0.0, 0.0));  // anywhere
+  ASSERT_TRUE(f.reset_from_tracked(t, T_w_c));
+  EXPECT_EQ(f.velocity_w_mps().norm(), 0.0);
+  EXPECT_LT(
+      geometry::pose_error(f.state_at_reset().T_w_b() * sc.options.T_b_c, T_w_c).translation_m,
+      1e-12);
+  EXPECT_EQ(f.bias_gyro_rps(), bias);
+  EXPECT_EQ(f.counters().restarts, 1);
+  sc.feed(f, frame_time(21));
+  EXPECT_TRUE(f.predict_camera_pose(frame_time(21)).has_value());
+  // Without the restart the same reset keeps the body's velocity (the difference of positions).
+  Scenario sc2;
+  InertialFrontend g(sc2.options);
+  run(sc2, g, 20);
+  sc2.feed(g, t);
+  ASSERT_TRUE(g.reset_from_tracked(t, T_w_c));
+  EXPECT_GT(g.velocity_w_mps().norm(), 1.0);
+}
+
 TEST(InertialFrontend, GuessIsThePaperCompositionOfThePredictedBodyMotion) {
   Scenario sc;
   InertialFrontend f(sc.options);
