@@ -85,7 +85,8 @@ struct TrackingSettings : TrackerSetting {
     v.field("reinit_after_lost_frames", reinit_after_lost_frames,
             {"frames", 0, 100000,
              "after this many consecutive lost frames the local map restarts from the current "
-             "frame at its guess (IMU pose), as at the first frame; 0 = never"});
+             "frame at its guess (IMU pose), and the IMU state restarts there at rest, as at the "
+             "first frame; 0 = never"});
     v.field("fusion", fusion, {"fused", "paper"},
             "imu guess: fused = the IMU prediction and its covariance are a prior factor in "
             "GICP and a 15-state filter (pose, velocity, gyro and accel bias) is updated from "
