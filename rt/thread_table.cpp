@@ -4,6 +4,7 @@
 #include <sched.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
@@ -93,7 +94,7 @@ ThreadApplyStatus apply_thread_spec(const ThreadSpec& spec) noexcept {
 
   {
     sched_param param{};
-    int policy = SCHED_OTHER;
+    int policy = spec.sched_idle ? SCHED_IDLE : SCHED_OTHER;
     int err = 0;
     if (spec.sched_fifo_priority > 0) {
       policy = SCHED_FIFO;
@@ -115,7 +116,15 @@ ThreadApplyStatus apply_thread_spec(const ThreadSpec& spec) noexcept {
     }
   }
 
-  if (spec.cpu >= 0) {
+  if (spec.cpu < 0) {
+    // Any CPU of the process: a new thread inherits its creator's affinity, and a worker made
+    // by a pinned thread (the tracker's team, started on the tracker thread) would otherwise
+    // share its creator's one CPU. The process's set is the main thread's (never pinned here).
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(getpid(), sizeof set, &set) == 0)
+      (void)pthread_setaffinity_np(self, sizeof set, &set);
+  } else {
     int err = 0;
     if (spec.cpu >= CPU_SETSIZE) {
       err = EINVAL;

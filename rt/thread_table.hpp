@@ -57,8 +57,12 @@ class ThreadName {
 struct ThreadSpec {
   ThreadName name;              // pthread name, <= 15 chars (shown by top -H, ps -L, gdb)
   int sched_fifo_priority = 0;  // 1..99: SCHED_FIFO at this priority; 0: SCHED_OTHER
-  int cpu = -1;                 // pin to this CPU index; -1: any CPU
+  int cpu = -1;                 // pin to this CPU index; -1: any CPU of the process
   std::int64_t period_ns = 0;   // > 0: a PeriodicTask with this period; 0: aperiodic (event driven)
+  // With priority 0 only: SCHED_IDLE instead of SCHED_OTHER. For best-effort work that every
+  // other thread on the CPU goes before, SCHED_OTHER ones included (the kernel's pty and USB
+  // workers, OpenNI2's reader, the DDS publisher), not only the SCHED_FIFO ones.
+  bool sched_idle = false;
 };
 
 // Worker teams (rt/worker_team.hpp): an entry `<task>_w1` is member 1 of `<task>`'s team (the
@@ -77,10 +81,16 @@ inline constexpr std::array<ThreadSpec, 10> kThreadTable{{
     {.name = "tracker", .sched_fifo_priority = 60, .cpu = 1, .period_ns = ms_to_ns(50)},
     // The tracker's worker team member 1: preprocessing (kNN covariances) and GICP linearisation.
     {.name = "tracker_w1", .sched_fifo_priority = 60, .cpu = 0, .period_ns = 0},
-    // Gaussian map: insert keyframes, N optimisation iterations per tick, prune.
-    {.name = "mapper", .sched_fifo_priority = 0, .cpu = -1, .period_ns = ms_to_ns(100)},
+    // Gaussian map: insert keyframes, N optimisation iterations per tick, prune. Best effort
+    // (SCHED_IDLE): it takes only what no other thread wants, so it never delays the serial
+    // bytes' kernel worker, the camera's reader or the publisher (each SCHED_OTHER).
+    {.name = "mapper",
+     .sched_fifo_priority = 0,
+     .cpu = -1,
+     .period_ns = ms_to_ns(100),
+     .sched_idle = true},
     // The mapper's worker team member 1: rasterizer tiles, SSIM rows.
-    {.name = "mapper_w1", .sched_fifo_priority = 0, .cpu = -1, .period_ns = 0},
+    {.name = "mapper_w1", .sched_fifo_priority = 0, .cpu = -1, .period_ns = 0, .sched_idle = true},
     // Drains the pose ring and publishes on DDS (not real-time safe: SCHED_OTHER). 500 Hz polling
     // adds at most 2 ms to a 20 Hz pose (an empty poll is one ring read).
     {.name = "dds_pub", .sched_fifo_priority = 0, .cpu = 0, .period_ns = ms_to_ns(2)},
@@ -144,12 +154,16 @@ static_assert(find_thread_spec("imu_driver")->sched_fifo_priority >
                   find_thread_spec("tracker")->sched_fifo_priority,
               "drivers preempt the tracker");
 
-// `spec` as the rt: configuration allows it: priority 0 (SCHED_OTHER) unless realtime_priorities,
+// `spec` as the rt: configuration allows it: priority 0 (SCHED_OTHER, never SCHED_IDLE) unless
+// realtime_priorities,
 // cpu -1 unless pin_cpus. Applied by whoever builds a thread from the table (the live pipeline
 // from rt.realtime_priorities / rt.pin_cpus; tools and tests leave both off).
 [[nodiscard]] constexpr ThreadSpec apply_policy(ThreadSpec spec, bool realtime_priorities,
                                                 bool pin_cpus) noexcept {
-  if (!realtime_priorities) spec.sched_fifo_priority = 0;
+  if (!realtime_priorities) {
+    spec.sched_fifo_priority = 0;
+    spec.sched_idle = false;
+  }
   if (!pin_cpus) spec.cpu = -1;
   return spec;
 }
@@ -175,7 +189,7 @@ enum class ApplyResult : std::uint8_t {
 struct ThreadApplyStatus {
   ApplyResult name = ApplyResult::kNotRequested;
   int name_errno = 0;
-  // SCHED_FIFO at the requested priority, or SCHED_OTHER when the priority is 0.
+  // SCHED_FIFO at the requested priority, or SCHED_OTHER (SCHED_IDLE) when the priority is 0.
   ApplyResult scheduling = ApplyResult::kNotRequested;
   int scheduling_errno = 0;
   ApplyResult affinity = ApplyResult::kNotRequested;
@@ -189,7 +203,7 @@ struct ThreadApplyStatus {
   [[nodiscard]] std::string describe() const;
 };
 
-// Applies `spec` to the calling thread: pthread_setname_np, SCHED_FIFO/SCHED_OTHER via
+// Applies `spec` to the calling thread: pthread_setname_np, SCHED_FIFO/SCHED_OTHER/SCHED_IDLE via
 // pthread_setschedparam, pthread_setaffinity_np. Never throws, never aborts.
 ThreadApplyStatus apply_thread_spec(const ThreadSpec& spec) noexcept;
 

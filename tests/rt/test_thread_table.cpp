@@ -4,6 +4,7 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
@@ -38,7 +39,9 @@ void check_apply(const ThreadSpec& spec) {
     sched_param param{};
     ASSERT_EQ(pthread_getschedparam(pthread_self(), &policy, &param), 0);
     if (st.scheduling == ApplyResult::kApplied) {
-      EXPECT_EQ(policy, spec.sched_fifo_priority > 0 ? SCHED_FIFO : SCHED_OTHER);
+      EXPECT_EQ(policy, spec.sched_fifo_priority > 0 ? SCHED_FIFO
+                        : spec.sched_idle            ? SCHED_IDLE
+                                                     : SCHED_OTHER);
       EXPECT_EQ(param.sched_priority, spec.sched_fifo_priority);
     } else {
       EXPECT_EQ(st.scheduling, ApplyResult::kRefused);
@@ -81,6 +84,13 @@ TEST(ThreadTable, HoldsEveryVigsThread) {
   EXPECT_EQ(apply_policy(thread_spec("tracker"), true, true).cpu, thread_spec("tracker").cpu);
   EXPECT_EQ(thread_spec("tracker").period_ns, ms_to_ns(50));
   EXPECT_GT(thread_spec("mapper").period_ns, 0);
+  // The mapper's team is best effort; nothing else is, and without real-time priorities no
+  // thread changes class at all.
+  for (const ThreadSpec& s : kThreadTable) {
+    EXPECT_EQ(s.sched_idle, s.name.view().starts_with("mapper")) << s.name.view();
+    EXPECT_FALSE(apply_policy(s, false, true).sched_idle);
+    EXPECT_EQ(apply_policy(s, true, false).sched_idle, s.sched_idle);
+  }
   EXPECT_GT(thread_spec("rgbd_driver").sched_fifo_priority,
             thread_spec("tracker").sched_fifo_priority);
   EXPECT_NE(thread_spec("tracker").cpu, thread_spec("imu_driver").cpu);
@@ -101,6 +111,43 @@ TEST(ThreadTable, ApplyEveryTableEntryNeverFails) {
     SCOPED_TRACE(std::string(s.name.view()));
     check_apply(s);
   }
+}
+
+// SCHED_IDLE needs no privilege: a best-effort thread gets it wherever the pipeline runs.
+TEST(ThreadTable, BestEffortThreadsRunUnderSchedIdle) {
+  const ThreadSpec idle{.name = "t_idle", .sched_fifo_priority = 0, .cpu = -1, .sched_idle = true};
+  std::thread t([&] {
+    const ThreadApplyStatus st = apply_thread_spec(idle);
+    EXPECT_EQ(st.scheduling, ApplyResult::kApplied);
+    EXPECT_EQ(sched_getscheduler(0), SCHED_IDLE);
+  });
+  t.join();
+}
+
+// cpu -1 means any CPU of the process, also for a thread started by a pinned one (which it
+// would otherwise inherit: the tracker's worker team is started on the pinned tracker thread).
+TEST(ThreadTable, UnpinnedThreadStartedByAPinnedOneGetsEveryCpu) {
+  cpu_set_t all;
+  CPU_ZERO(&all);
+  ASSERT_EQ(sched_getaffinity(getpid(), sizeof all, &all), 0);
+  if (CPU_COUNT(&all) < 2) GTEST_SKIP() << "one CPU";
+  int first = 0;
+  while (!CPU_ISSET(static_cast<std::size_t>(first), &all)) ++first;
+  const ThreadSpec pinned{.name = "t_pinned", .sched_fifo_priority = 0, .cpu = first};
+  const ThreadSpec any{.name = "t_any", .sched_fifo_priority = 0, .cpu = -1};
+  int child_cpus = 0;
+  RtThread parent(pinned, [&] {
+    RtThread child(any, [&] {
+      cpu_set_t set;
+      CPU_ZERO(&set);
+      if (pthread_getaffinity_np(pthread_self(), sizeof set, &set) == 0)
+        child_cpus = CPU_COUNT(&set);
+    });
+    child.join();
+  });
+  parent.join();
+  EXPECT_EQ(parent.status().affinity, ApplyResult::kApplied);
+  EXPECT_EQ(child_cpus, CPU_COUNT(&all));
 }
 
 TEST(ThreadTable, RefusalsAreReportedNotFatal) {
