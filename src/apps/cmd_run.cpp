@@ -125,6 +125,12 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   s["poses_published"] = r.poses_published;
   s["status_published"] = r.status_published;
   s["memory_lock"] = r.memory_lock;
+  if (r.tracker_worker) {
+    s["tracker_worker"] = io::Json{{"name", std::string(r.tracker_worker->name.view())},
+                                   {"cpu", r.tracker_worker->cpu},
+                                   {"fifo_priority", r.tracker_worker->sched_fifo_priority},
+                                   {"applied", r.tracker_worker_status.describe()}};
+  }
   s["stopped_by_signal"] = r.stopped_by_signal;
   if (r.record) {
     const pipeline::LiveRecordResult& rec = *r.record;

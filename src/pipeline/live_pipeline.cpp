@@ -178,6 +178,11 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   ts.wait_timeout_ns = o.wait_timeout_ns;
   ts.depth_scale_m = depth_scale_m;
   ts.camera = camera;
+  // The tracker's team member 1 on the other CPU at the tracker's priority: without it the
+  // worker was made by the tracker thread at normal priority and inherited its CPU, so the
+  // "parallel" preprocessing and GICP took turns on one CPU (track 24.6 / 44.1 ms p50 / p99
+  // through the drivers against 12.7 / 25.1 in `vigs replay`; BENCHMARKS.md, Live pipeline).
+  ts.odometry.worker = table_spec("tracker_w1", rtc);
   rt::ThreadSpec tracker_spec = table_spec("tracker", rtc);
   tracker_spec.period_ns = o.lockstep ? rt::ms_to_ns(1) : period_ns(cfg.camera.rate_hz);
   if (!o.lockstep && cfg.rt.tracker_phase_lock) {
@@ -364,6 +369,10 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   const std::int64_t wall_ns = rt::monotonic_ns() - t_start;
   ReplayResult& r = out.replay;
   r.counters = tracker.odometry_counters();
+  if (const rt::RtThread* w = tracker.team_worker()) {
+    out.tracker_worker = w->spec();
+    out.tracker_worker_status = w->status();
+  }
   r.camera = camera;
   r.guess = cfg.tracking.initial_guess;
   (void)parse_fusion_mode(cfg.tracking.fusion, r.fusion);  // checked by the config loader

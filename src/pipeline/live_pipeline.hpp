@@ -117,6 +117,10 @@ struct LiveResult {
   double stream_s = 0;          ///< first to last frame stamp
   double real_time_factor = 0;  ///< stream_s / wall time from the first frame
   std::string memory_lock;      ///< "applied", "refused", "not requested"
+  /// The tracker's worker team member 1 as it ran (unset: the odometry never started, or a
+  /// team of one): its spec after rt: and what the OS applied.
+  std::optional<rt::ThreadSpec> tracker_worker;
+  rt::ThreadApplyStatus tracker_worker_status;
   bool stopped_by_signal = false;
   std::optional<LiveRecordResult> record;  ///< with record_path
 };

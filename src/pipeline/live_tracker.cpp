@@ -309,4 +309,9 @@ OdometryCounters LiveTracker::odometry_counters() const {
   return odometry_ ? odometry_->counters() : OdometryCounters{};
 }
 
+const rt::RtThread* LiveTracker::team_worker() const {
+  if (!odometry_ || odometry_->tracker().team().size() < 2) return nullptr;
+  return &odometry_->tracker().team().worker(1);
+}
+
 }  // namespace vigs::pipeline

@@ -121,6 +121,9 @@ class LiveTracker {
   [[nodiscard]] LiveTrackerCounters counters() const noexcept;
   /// After the tracker thread has stopped: the Odometry's own counters (zero before the start).
   [[nodiscard]] OdometryCounters odometry_counters() const;
+  /// After the tracker thread has stopped: member 1 of the odometry's worker team (null: no
+  /// odometry yet, or a team of one).
+  [[nodiscard]] const rt::RtThread* team_worker() const;
   [[nodiscard]] InitialPoseSource initial_pose() const noexcept { return initial_pose_; }
 
  private:

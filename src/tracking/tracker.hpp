@@ -75,7 +75,8 @@ class Tracker {
   struct Setting : config::TrackerSetting {
     int preprocess_threads = gicp.num_threads;
     /// Member 1 of the tracker's worker team (more members: rt::worker_spec). Normal priority
-    /// by default; the live pipeline passes the thread table's `tracker_w1` as rt: allows.
+    /// by default; the live pipeline passes the thread table's `tracker_w1` as rt: allows
+    /// (pipeline::OdometryOptions::worker).
     rt::ThreadSpec worker{.name = "tracker_w1"};
   };
 

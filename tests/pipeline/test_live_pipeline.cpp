@@ -72,6 +72,29 @@ TEST_F(LivePipeline, LockstepEqualsReplayAndRepeats) {
   EXPECT_EQ(static_cast<long>(a.tracker.keyframes), a.replay.counters.keyframes);
 }
 
+// With rt.pin_cpus the tracker's team member 1 is the table's `tracker_w1`, pinned to the CPU
+// the tracker does not use. (It was once made by the pinned tracker thread with a default spec
+// and inherited the tracker's CPU: the two members took turns on one CPU.)
+TEST_F(LivePipeline, TrackerTeamWorkerRunsAsTheThreadTableSays) {
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one CPU";
+  config::RobotConfig cfg = live_config();
+  cfg.rt.pin_cpus = true;
+  LiveOptions o;
+  o.recording = recording();
+  o.lockstep = true;
+  o.max_frames = 5;
+  const LiveResult r = run_live(cfg, o);
+  ASSERT_TRUE(r.tracker_worker.has_value());
+  const rt::ThreadSpec& table = rt::thread_spec("tracker_w1");
+  EXPECT_EQ(r.tracker_worker->name.view(), "tracker_w1");
+  EXPECT_EQ(r.tracker_worker->cpu, table.cpu);
+  EXPECT_NE(r.tracker_worker->cpu, rt::thread_spec("tracker").cpu);
+  EXPECT_EQ(r.tracker_worker_status.affinity, rt::ApplyResult::kApplied)
+      << r.tracker_worker_status.describe();
+  // rt.realtime_priorities is off here: the table's priority is not asked for.
+  EXPECT_EQ(r.tracker_worker->sched_fifo_priority, 0);
+}
+
 TEST_F(LivePipeline, RealTimeKeepsOrderAndCountsSkips) {
   const config::RobotConfig cfg = live_config();
   LiveOptions o;
