@@ -22,9 +22,9 @@ struct MapperMemory {
   std::size_t optimizer_buffers_bytes = 0;
   /// GaussianInserter's voxel set: bucket array plus one node (next pointer + key) per voxel.
   std::size_t occupancy_bytes = 0;
-  std::size_t see_through_bytes = 0;  ///< vote counts, far flags and the vote's keep mask
-  std::size_t keyframes_bytes = 0;    ///< held keyframes: images, depth, points not yet inserted
-  std::size_t snapshot_bytes = 0;     ///< the last published snapshot (0 when none)
+  std::size_t see_through_bytes = 0;   ///< vote counts, far flags and the vote's keep mask
+  std::size_t keyframes_bytes = 0;     ///< held keyframes: images, depth, points not yet inserted
+  std::size_t snapshot_bytes = 0;      ///< the last published snapshot (0 when none)
   std::size_t view_buffers_bytes = 0;  ///< per-pixel: renders, loss gradients, gate mask
 
   /// The owners whose bytes grow with the number of Gaussians.
@@ -37,9 +37,9 @@ struct MapperMemory {
   }
   /// per_gaussian_owners_bytes() / gaussians (0 for an empty map).
   [[nodiscard]] double bytes_per_gaussian() const {
-    return gaussians == 0 ? 0.0
-                          : static_cast<double>(per_gaussian_owners_bytes()) /
-                                static_cast<double>(gaussians);
+    return gaussians == 0
+               ? 0.0
+               : static_cast<double>(per_gaussian_owners_bytes()) / static_cast<double>(gaussians);
   }
 };
 
