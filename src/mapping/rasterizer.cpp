@@ -309,13 +309,8 @@ std::size_t Rasterizer<T>::cache_bytes() const {
                        proj_.opacity.capacity()) *
                           sizeof(T) +
                       proj_.radius.capacity() * sizeof(int);
-  bytes += (tile_ids_.capacity() + visible_slot_.capacity() + tile_offsets_.capacity() +
-            tile_cursor_.capacity()) *
-           sizeof(int);
+  bytes += (tile_ids_.capacity() + visible_slot_.capacity()) * sizeof(int);
   for (const auto& v : thread_grad_) bytes += v.capacity() * sizeof(T);
-  for (const auto& v : gather_) bytes += v.capacity() * sizeof(TileGaussian<T>);
-  for (const auto& v : tile_grad_) bytes += v.capacity() * sizeof(TileGrad<T>);
-  for (const auto& v : simd_scratch_) bytes += v.capacity() * sizeof(float);
   return bytes;
 }
 

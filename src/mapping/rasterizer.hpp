@@ -80,8 +80,8 @@ class Rasterizer {
   static constexpr std::int64_t kMaxTilePairs = std::int64_t{1} << 28;
   /// Bytes held by this rasterizer's caches, from the current capacities: projection and
   /// visible slots (per Gaussian), tile lists (per Gaussian-tile pair), per-thread gradient
-  /// buffers (per visible Gaussian) and per-thread tile scratch (per Gaussian of the fullest
-  /// tile).
+  /// buffers (per visible Gaussian). Not the per-tile offsets nor the per-thread tile scratch
+  /// (sized by the fullest tile, not by the map).
   [[nodiscard]] std::size_t cache_bytes() const;
   /// True when the last forward used the AVX2 kernels (backward uses them under the same
   /// condition: settings().use_simd, float, and a CPU with AVX2 and FMA).
