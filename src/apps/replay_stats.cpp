@@ -63,6 +63,16 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
     s["map_budget_ms"] = r.map_budget_ms > 0 ? num(r.map_budget_ms) : io::Json(nullptr);
     s["map_budget_overruns"] = r.map_budget_overruns;
     s["map_bytes_per_gaussian"] = num(r.map_bytes_per_gaussian);
+    const mapping::MapperMemory& m = r.map_memory;
+    s["map_memory_bytes"] = m.total_bytes();
+    s["map_memory_by_owner_bytes"] = {{"map_params", m.map_params_bytes},
+                                      {"adam_moments", m.adam_moments_bytes},
+                                      {"optimizer_buffers", m.optimizer_buffers_bytes},
+                                      {"occupancy", m.occupancy_bytes},
+                                      {"see_through", m.see_through_bytes},
+                                      {"keyframes", m.keyframes_bytes},
+                                      {"snapshot", m.snapshot_bytes},
+                                      {"view_buffers", m.view_buffers_bytes}};
     s["map_gated_points"] = r.map_gated_points;
     s["map_seen_through_pruned"] = r.map_seen_through_pruned;
   }

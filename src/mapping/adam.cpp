@@ -74,12 +74,7 @@ void Adam::step(GaussianMap& params, const GaussianMap& grad) {
 }
 
 std::size_t Adam::bytes() const {
-  auto cap = [](const GaussianMap& a) {
-    return (a.mean_w.capacity() + a.log_scale.capacity() + a.quat_wxyz.capacity() +
-            a.opacity_logit.capacity() + a.color_rgb.capacity()) *
-           sizeof(float);
-  };
-  return cap(m_) + cap(v_);
+  return m_.capacity_bytes() + v_.capacity_bytes();
 }
 
 }  // namespace vigs::mapping

@@ -19,6 +19,12 @@ struct GaussianParams {
   std::vector<T> color_rgb;      ///< 3 per Gaussian: linear RGB, nominally [0, 1]
 
   [[nodiscard]] std::size_t size() const { return opacity_logit.size(); }
+  /// Bytes held by the five arrays (their capacities).
+  [[nodiscard]] std::size_t capacity_bytes() const {
+    return (mean_w.capacity() + log_scale.capacity() + quat_wxyz.capacity() +
+            opacity_logit.capacity() + color_rgb.capacity()) *
+           sizeof(T);
+  }
 
   void resize(std::size_t n) {
     mean_w.resize(3 * n);

@@ -46,6 +46,13 @@ class GaussianInserter {
   void forget(const GaussianMap& map, const std::vector<char>& keep);
 
   [[nodiscard]] std::size_t occupied_voxels() const { return occupied_.size(); }
+  /// Bytes held by the occupancy set: its bucket array and one node per voxel (a next pointer
+  /// and the key: the node of a set whose hash is not cached, as std::hash of an integer is
+  /// not). Malloc's own per-block overhead is not counted.
+  [[nodiscard]] std::size_t occupancy_bytes() const {
+    return occupied_.bucket_count() * sizeof(void*) +
+           occupied_.size() * (sizeof(void*) + sizeof(std::uint64_t));
+  }
   [[nodiscard]] const InsertSettings& settings() const { return s_; }
 
  private:

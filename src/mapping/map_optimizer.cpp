@@ -61,14 +61,17 @@ std::size_t MapOptimizer::remove(GaussianMap& map, const std::vector<char>& keep
   return map.compact(keep);
 }
 
+std::size_t MapOptimizer::buffer_bytes() const {
+  return raster_.cache_bytes() + prune_keep_.capacity();
+}
+
+std::size_t MapOptimizer::view_bytes() const {
+  return render_.capacity_bytes() + (v_color_.capacity() + v_depth_.capacity()) * sizeof(float);
+}
+
 double MapOptimizer::bytes_per_gaussian(const GaussianMap& map) const {
   if (map.size() == 0) return 0.0;
-  auto cap = [](const GaussianMap& a) {
-    return (a.mean_w.capacity() + a.log_scale.capacity() + a.quat_wxyz.capacity() +
-            a.opacity_logit.capacity() + a.color_rgb.capacity()) *
-           sizeof(float);
-  };
-  const std::size_t bytes = cap(map) + adam_.bytes() + raster_.cache_bytes();
+  const std::size_t bytes = map.capacity_bytes() + moment_bytes() + buffer_bytes();
   return static_cast<double>(bytes) / static_cast<double>(map.size());
 }
 

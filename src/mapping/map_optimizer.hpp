@@ -3,7 +3,8 @@
 // (L1 + SSIM + depth), backward, Adam; pruning of transparent and oversized Gaussians every N
 // iterations. Gradients go straight from the rasterizer into Adam per Gaussian (no gradient copy
 // of the map). Memory per Gaussian (parameters, Adam moments, rasterizer caches including the
-// per-thread gradient buffers and tile lists) is reported by bytes_per_gaussian().
+// per-thread gradient buffers and tile lists) is reported by bytes_per_gaussian(); the mapper's
+// whole account, by owner, is Mapper::memory() (mapper_memory.hpp).
 #include <cstddef>
 #include <vector>
 
@@ -42,8 +43,16 @@ class MapOptimizer {
   /// The keep mask of the last prune() (one per Gaussian before it).
   [[nodiscard]] const std::vector<char>& last_prune_keep() const { return prune_keep_; }
 
-  /// Bytes per Gaussian held for `map` (parameters + gradients + moments + caches).
+  /// Bytes per Gaussian held for `map` by the map and this optimiser: (map parameters +
+  /// moment_bytes() + buffer_bytes()) / size. The mapper's figure (Mapper::bytes_per_gaussian)
+  /// adds the inserter's occupancy and the see-through counts.
   [[nodiscard]] double bytes_per_gaussian(const GaussianMap& map) const;
+  /// Adam's moments, bytes.
+  [[nodiscard]] std::size_t moment_bytes() const { return adam_.bytes(); }
+  /// Rasterizer caches (Rasterizer::cache_bytes) and the prune mask, bytes.
+  [[nodiscard]] std::size_t buffer_bytes() const;
+  /// Per-pixel buffers: the last render and the loss's gradients, bytes.
+  [[nodiscard]] std::size_t view_bytes() const;
 
   Rasterizer<float>& rasterizer() { return raster_; }
   Adam& adam() { return adam_; }

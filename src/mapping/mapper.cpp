@@ -136,10 +136,33 @@ void Mapper::prune_seen_through(const MapperKeyframe& kf) {
   seen_through_pruned_.add(condemned);
 }
 
-double Mapper::bytes_per_gaussian() const {
-  if (map_.size() == 0) return 0.0;
-  return optimizer_.bytes_per_gaussian(map_) +
-         static_cast<double>(seen_through_.bytes()) / static_cast<double>(map_.size());
+namespace {
+template <class T>
+std::size_t capacity_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+}  // namespace
+
+MapperMemory Mapper::memory() const {
+  MapperMemory m;
+  m.gaussians = map_.size();
+  m.map_params_bytes = map_.capacity_bytes();
+  m.adam_moments_bytes = optimizer_.moment_bytes();
+  m.optimizer_buffers_bytes = optimizer_.buffer_bytes();
+  m.occupancy_bytes = inserter_.occupancy_bytes();
+  m.see_through_bytes = seen_through_.bytes() + capacity_bytes(see_through_keep_);
+  m.keyframes_bytes = capacity_bytes(keyframes_) + capacity_bytes(round_);
+  for (const auto& kf : keyframes_) {
+    const KeyframeGaussians& g = kf->gaussians;
+    m.keyframes_bytes += sizeof(MapperKeyframe) + capacity_bytes(kf->rgb) +
+                         capacity_bytes(kf->depth_m) + capacity_bytes(g.points_c) +
+                         capacity_bytes(g.covariances_c) + capacity_bytes(g.colors);
+  }
+  if (const std::shared_ptr<const GaussianMap> snap = snapshot())
+    m.snapshot_bytes = snap->capacity_bytes();
+  m.view_buffers_bytes =
+      optimizer_.view_bytes() + gate_render_.capacity_bytes() + capacity_bytes(gate_keep_);
+  return m;
 }
 
 }  // namespace vigs::mapping

@@ -36,6 +36,7 @@
 #include "mapping/insertion.hpp"
 #include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
+#include "mapping/mapper_memory.hpp"
 #include "mapping/see_through.hpp"
 #include "rt/counters.hpp"
 #include "rt/spsc_ring.hpp"
@@ -74,9 +75,12 @@ class Mapper {
   }
 
   [[nodiscard]] const GaussianMap& map() const { return map_; }  ///< mapper thread only
-  /// Memory per Gaussian of the map and its optimiser (MapOptimizer::bytes_per_gaussian);
-  /// mapper thread only.
-  [[nodiscard]] double bytes_per_gaussian() const;
+  /// Bytes held by the mapper, by owner (mapper_memory.hpp); mapper thread only (or after it
+  /// stopped).
+  [[nodiscard]] MapperMemory memory() const;
+  /// memory().bytes_per_gaussian(): the owners that grow per Gaussian (map, Adam moments,
+  /// rasterizer caches, occupancy, see-through counts) over the map size; mapper thread only.
+  [[nodiscard]] double bytes_per_gaussian() const { return memory().bytes_per_gaussian(); }
   [[nodiscard]] bool end_of_stream() const noexcept { return eos_.load(); }
   [[nodiscard]] std::uint64_t keyframes_ingested() const noexcept { return ingested_.get(); }
   [[nodiscard]] std::uint64_t skipped_keyframes() const noexcept { return skipped_.get(); }

@@ -25,6 +25,11 @@ struct RenderResult {
   std::vector<T> final_T;      ///< transmittance left; accumulated opacity = 1 - final_T
   std::vector<int> n_contrib;  ///< per pixel, last contributor (+1) in its tile's list
   [[nodiscard]] T alpha(int p) const { return T(1) - final_T[static_cast<std::size_t>(p)]; }
+  /// Bytes held by the per-pixel arrays (their capacities).
+  [[nodiscard]] std::size_t capacity_bytes() const {
+    return (color.capacity() + depth.capacity() + final_T.capacity()) * sizeof(T) +
+           n_contrib.capacity() * sizeof(int);
+  }
 };
 
 /// Per-Gaussian projection cache of the last forward pass.
@@ -73,8 +78,10 @@ class Rasterizer {
   /// Most Gaussian-tile pairs one forward pass takes (1 GiB of tile ids); more throws
   /// std::length_error naming the counts (bin_tiles sums in 64 bits).
   static constexpr std::int64_t kMaxTilePairs = std::int64_t{1} << 28;
-  /// Bytes held per Gaussian by this rasterizer's caches (projection, per-thread gradient
-  /// buffers, tile lists), from the current capacities.
+  /// Bytes held by this rasterizer's caches, from the current capacities: projection and
+  /// visible slots (per Gaussian), tile lists (per Gaussian-tile pair), per-thread gradient
+  /// buffers (per visible Gaussian). Not the per-tile offsets nor the per-thread tile scratch
+  /// (sized by the fullest tile, not by the map).
   [[nodiscard]] std::size_t cache_bytes() const;
   /// True when the last forward used the AVX2 kernels (backward uses them under the same
   /// condition: settings().use_simd, float, and a CPU with AVX2 and FMA).

@@ -400,7 +400,8 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     r.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
     r.map_budget_ms = cfg.mapping.budget_ms;
     r.map_budget_overruns = mapper->mapper().budget_overruns();
-    r.map_bytes_per_gaussian = mapper->mapper().bytes_per_gaussian();
+    r.map_memory = mapper->mapper().memory();
+    r.map_bytes_per_gaussian = r.map_memory.bytes_per_gaussian();
     r.map_gated_points = mapper->mapper().gated_points();
   }
   const dds::PosePublisher::Stats ps = publisher.stats();

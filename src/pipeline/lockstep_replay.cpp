@@ -228,7 +228,8 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     result.map_iterations = static_cast<long>(mapper->mapper().iterations());
     result.map_budget_ms = options.map_budget_ms;
     result.map_budget_overruns = mapper->mapper().budget_overruns();
-    result.map_bytes_per_gaussian = mapper->mapper().bytes_per_gaussian();
+    result.map_memory = mapper->mapper().memory();
+    result.map_bytes_per_gaussian = result.map_memory.bytes_per_gaussian();
     result.map_gated_points = mapper->mapper().gated_points();
     result.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
   }

@@ -24,6 +24,7 @@
 
 #include "core/config/robot_config.hpp"
 #include "mapping/gaussian_map.hpp"
+#include "mapping/mapper_memory.hpp"
 #include "pipeline/odometry.hpp"
 #include "pipeline/recorded_motion.hpp"
 
@@ -99,7 +100,8 @@ struct ReplayResult {
   double map_s = 0.0;                         ///< inside the mapper
   double map_budget_ms = 0.0;                 ///< the mapper's budget per frame (0 = none)
   std::uint64_t map_budget_overruns = 0;      ///< mapper ticks past their (carried) budget
-  double map_bytes_per_gaussian = 0.0;        ///< map + optimiser memory per Gaussian at the end
+  double map_bytes_per_gaussian = 0.0;        ///< map_memory.bytes_per_gaussian()
+  mapping::MapperMemory map_memory;           ///< the mapper's memory by owner at the end
   std::uint64_t map_gated_points = 0;         ///< keyframe points the map already rendered
   std::uint64_t map_seen_through_pruned = 0;  ///< Gaussians later keyframes saw through
 };

@@ -1,5 +1,6 @@
 // The mapper task body: keyframe ingestion from its ring, the newest-first schedule, the
-// pending-keyframe bound, snapshots while it runs on a real rt::PeriodicTask.
+// pending-keyframe bound, snapshots while it runs on a real rt::PeriodicTask, the memory account
+// by owner.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -203,6 +204,74 @@ TEST(MappingMapper, IterationLongerThanTheBudgetStillRunsOnAverageWithinIt) {
   }
   EXPECT_GT(mapper.iterations(), 10u);  // the map is still optimised
   EXPECT_LE(total_ns / kTicks, 25'000'000 + kIterationNs / kTicks);
+}
+
+TEST(MappingMapper, MemoryCountsEveryOwnerThatGrowsWithTheMap) {
+  const GaussianMap near = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
+  const GaussianMap other = test::random_gaussians<float>(80, 29, 0.5, 0.9, -2.5, -1.8);
+  KeyframeRing ring(8);
+  Mapper mapper(test_settings(), ring, nullptr);
+  const MapperMemory empty = mapper.memory();
+  EXPECT_EQ(empty.gaussians, 0u);
+  EXPECT_EQ(empty.map_params_bytes + empty.adam_moments_bytes + empty.see_through_bytes +
+                empty.keyframes_bytes + empty.snapshot_bytes,
+            0u);
+  EXPECT_EQ(mapper.bytes_per_gaussian(), 0.0);
+
+  // What each owner holds at least, for a map of n Gaussians and k keyframes of kW x kH.
+  const std::size_t pixels = std::size_t{kW} * kH;
+  const auto check = [&](const MapperMemory& m, std::size_t k) {
+    const std::size_t n = mapper.map().size();
+    ASSERT_EQ(m.gaussians, n);
+    ASSERT_GT(n, 0u);
+    EXPECT_GE(m.map_params_bytes, 14 * sizeof(float) * n);        // 14 parameters
+    EXPECT_GE(m.adam_moments_bytes, 2 * 14 * sizeof(float) * n);  // two moments each
+    // projection (2 + 3 + 1 + 1 floats, a radius) and a visible slot per Gaussian
+    EXPECT_GE(m.optimizer_buffers_bytes, 9 * sizeof(float) * n);
+    EXPECT_GT(m.occupancy_bytes, 0u);  // a node per occupied voxel (grows: below)
+    // counts follow the map at each keyframe's vote (before its insertion): bound below
+    EXPECT_GT(m.see_through_bytes, 0u);
+    EXPECT_GE(m.keyframes_bytes, k * pixels * 4 * sizeof(float));  // rgb and depth
+    EXPECT_GE(m.view_buffers_bytes, pixels * 5 * sizeof(float));   // the last render
+    // every owner is in the total, and the per-Gaussian figure is the per-Gaussian owners'
+    EXPECT_EQ(m.total_bytes(), m.map_params_bytes + m.adam_moments_bytes +
+                                   m.optimizer_buffers_bytes + m.occupancy_bytes +
+                                   m.see_through_bytes + m.keyframes_bytes + m.snapshot_bytes +
+                                   m.view_buffers_bytes);
+    EXPECT_DOUBLE_EQ(
+        mapper.bytes_per_gaussian(),
+        static_cast<double>(m.map_params_bytes + m.adam_moments_bytes + m.optimizer_buffers_bytes +
+                            m.occupancy_bytes + m.see_through_bytes) /
+            static_cast<double>(n));
+  };
+
+  for (std::uint64_t id = 1; id <= 2; ++id) ASSERT_TRUE(ring.try_push(make_keyframe(near, id)));
+  for (int t = 0; t < 5; ++t) mapper.tick();
+  const MapperMemory first = mapper.memory();
+  check(first, 2);
+  EXPECT_EQ(first.snapshot_bytes, 0u);  // none requested
+  EXPECT_GT(first.occupancy_bytes, empty.occupancy_bytes);
+  EXPECT_GT(first.optimizer_buffers_bytes, empty.optimizer_buffers_bytes);
+  EXPECT_GT(first.view_buffers_bytes, empty.view_buffers_bytes);
+
+  // more of the scene: every per-Gaussian owner grows with the map
+  for (std::uint64_t id = 3; id <= 5; ++id) ASSERT_TRUE(ring.try_push(make_keyframe(other, id)));
+  for (int t = 0; t < 5; ++t) mapper.tick();
+  mapper.request_snapshot();
+  mapper.tick();
+  const MapperMemory more = mapper.memory();
+  ASSERT_GT(more.gaussians, first.gaussians + 20) << "the second scene should add Gaussians";
+  check(more, 5);
+  EXPECT_GE(more.map_params_bytes, first.map_params_bytes);
+  EXPECT_GT(more.occupancy_bytes, first.occupancy_bytes);
+  EXPECT_GT(more.keyframes_bytes, first.keyframes_bytes);
+  // the last vote (keyframe 5) saw at least the first map: two counts and a flag each
+  EXPECT_GE(more.see_through_bytes, 5 * first.gaussians);
+  ASSERT_NE(mapper.snapshot(), nullptr);
+  EXPECT_EQ(more.snapshot_bytes, mapper.snapshot()->capacity_bytes());
+  EXPECT_GE(more.snapshot_bytes, 14 * sizeof(float) * more.gaussians);
+  std::printf("mapper memory: %zu Gaussians, %zu bytes (%.1f bytes per Gaussian)\n", more.gaussians,
+              more.total_bytes(), more.bytes_per_gaussian());
 }
 
 TEST(MappingMapper, RunsOnAPeriodicTaskWhileSnapshotsAreTaken) {

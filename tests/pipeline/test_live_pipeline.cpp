@@ -68,6 +68,11 @@ TEST_F(LivePipeline, LockstepEqualsReplayAndRepeats) {
   // Mapping ran beside it and got every keyframe.
   ASSERT_NE(a.replay.map, nullptr);
   EXPECT_GT(a.replay.map->size(), 0u);
+  // its memory was read after the mapper stopped, for the map it left
+  EXPECT_EQ(a.replay.map_memory.gaussians, a.replay.map->size());
+  EXPECT_GE(a.replay.map_memory.map_params_bytes, a.replay.map->capacity_bytes());
+  EXPECT_GT(a.replay.map_memory.keyframes_bytes, 0u);
+  EXPECT_DOUBLE_EQ(a.replay.map_bytes_per_gaussian, a.replay.map_memory.bytes_per_gaussian());
   EXPECT_EQ(a.tracker.keyframe_drops, 0u);
   EXPECT_EQ(static_cast<long>(a.tracker.keyframes), a.replay.counters.keyframes);
 }

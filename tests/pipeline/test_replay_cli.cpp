@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "io/json_text.hpp"
 #include "io/tum_trajectory.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/results_dir.hpp"
@@ -138,6 +140,22 @@ TEST_F(ReplayCli, MapBudgetBuildsAMapWithTheBudgetInItsStats) {
   EXPECT_NE(stats.find("\"map_budget_ms\": 15"), std::string::npos) << stats;
   EXPECT_NE(stats.find("\"map_budget_overruns\": "), std::string::npos) << stats;
   EXPECT_NE(stats.find("\"map_bytes_per_gaussian\": "), std::string::npos) << stats;
+  // the mapper's memory by owner, its total beside the process's peak RSS
+  const io::Json js = io::Json::parse(stats);
+  ASSERT_TRUE(js.contains("map_memory_bytes")) << stats;
+  ASSERT_TRUE(js.contains("map_memory_by_owner_bytes")) << stats;
+  const io::Json& owners = js["map_memory_by_owner_bytes"];
+  std::uint64_t sum = 0;
+  for (const auto& [owner, bytes] : owners.items()) sum += bytes.get<std::uint64_t>();
+  EXPECT_EQ(owners.size(), 8u) << stats;
+  EXPECT_EQ(js["map_memory_bytes"].get<std::uint64_t>(), sum) << stats;
+  const std::uint64_t gaussians = js["gaussians"].get<std::uint64_t>();
+  ASSERT_GT(gaussians, 0u) << stats;
+  EXPECT_GE(owners["map_params"].get<std::uint64_t>(), 14 * sizeof(float) * gaussians) << stats;
+  EXPECT_GE(owners["adam_moments"].get<std::uint64_t>(), 28 * sizeof(float) * gaussians) << stats;
+  EXPECT_GT(owners["keyframes"].get<std::uint64_t>(), 0u) << stats;
+  EXPECT_GT(owners["occupancy"].get<std::uint64_t>(), 0u) << stats;
+  EXPECT_LT(js["map_memory_bytes"].get<double>(), js["peak_rss_bytes"].get<double>()) << stats;
   EXPECT_NE(stats.find("\"map_gated_points\": "), std::string::npos) << stats;
   // how many iterations fit follows the wall clock (a loaded machine may fit none), so only
   // the key is checked
