@@ -11,7 +11,7 @@ tracking::Tracker::Setting tracker_setting(const config::RobotConfig& cfg,
                                            const OdometryOptions& options) {
   tracking::Tracker::Setting s = tracking::tracker_setting(cfg.tracking);
   if (options.guess) s.initial_guess = *options.guess;
-  s.worker = options.worker;
+  if (options.worker) s.worker = *options.worker;
   return s;
 }
 

@@ -56,10 +56,10 @@ struct OdometryOptions {
   std::optional<FusionMode> fusion;
   /// Camera pose of the first frame in the gravity-aligned (z-up) world; identity when unset.
   std::optional<geometry::Pose> initial_T_w_c;
-  /// Member 1 of the tracker's worker team (tracking::Tracker::Setting::worker): normal
-  /// priority, any CPU by default; the live pipeline passes the thread table's `tracker_w1`
-  /// (its priority, on the CPU the tracker does not use) as rt: allows.
-  rt::ThreadSpec worker{.name = "tracker_w1"};
+  /// Overrides member 1 of the tracker's worker team (tracking::Tracker::Setting::worker)
+  /// when set: the live pipeline passes the thread table's `tracker_w1` (its priority, on the
+  /// CPU the tracker does not use) as rt: allows.
+  std::optional<rt::ThreadSpec> worker;
 };
 
 /// One frame's result.
