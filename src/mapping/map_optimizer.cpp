@@ -39,11 +39,17 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
   raster_.accumulate_gradients(map, view.camera, render_, v_color_.data(),
                                view.depth_m ? v_depth_.data() : nullptr, nullptr);
   // fused: each Gaussian's gradient goes straight into its Adam update, no gradient copy
-  adam_.step_fused(
-      map, [&](std::size_t i, float* g) { raster_.gaussian_gradient(map, view.camera, i, g); },
-      [&](std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn) {
-        raster_.for_ranges(n, fn);
-      });
+  const auto grad_of = [&](std::size_t i, float* g) {
+    raster_.gaussian_gradient(map, view.camera, i, g);
+  };
+  const auto ranges = [&](std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn) {
+    raster_.for_ranges(n, fn);
+  };
+  if (adam_.settings().visible_only) {
+    adam_.step_selected(map, raster_.visible_ids(), grad_of, ranges);
+  } else {
+    adam_.step_fused(map, grad_of, ranges);
+  }
   ++iterations_;
   std::size_t removed = 0;
   if (s_.prune_every > 0 && iterations_ % s_.prune_every == 0) removed = prune(map);

@@ -87,6 +87,7 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
     y1 = std::min(tiles_y_ - 1, static_cast<int>(std::floor((v + r) / T(kTilePx))));
   };
   visible_slot_.resize(n);
+  visible_ids_.resize(n);
   n_visible_ = 0;
   // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
   // before they are counted, so a map whose Gaussians cover too many tiles is a clear error, not
@@ -97,6 +98,7 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
       visible_slot_[i] = -1;
       continue;
     }
+    visible_ids_[static_cast<std::size_t>(n_visible_)] = static_cast<int>(i);
     visible_slot_[i] = n_visible_++;
     int x0, y0, x1, y1;
     rect_of(i, x0, y0, x1, y1);
@@ -112,6 +114,7 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
       for (int tx = x0; tx <= x1; ++tx)
         ++tile_offsets_[static_cast<std::size_t>(ty * tiles_x_ + tx) + 1];
   }
+  visible_ids_.resize(static_cast<std::size_t>(n_visible_));
   for (int t = 0; t < n_tiles; ++t) tile_offsets_[t + 1] += tile_offsets_[t];
   tile_ids_.resize(static_cast<std::size_t>(tile_offsets_[n_tiles]));
   tile_cursor_.assign(tile_offsets_.begin(), tile_offsets_.end() - 1);
@@ -309,7 +312,8 @@ std::size_t Rasterizer<T>::cache_bytes() const {
                        proj_.opacity.capacity()) *
                           sizeof(T) +
                       proj_.radius.capacity() * sizeof(int);
-  bytes += (tile_ids_.capacity() + visible_slot_.capacity()) * sizeof(int);
+  bytes +=
+      (tile_ids_.capacity() + visible_slot_.capacity() + visible_ids_.capacity()) * sizeof(int);
   for (const auto& v : thread_grad_) bytes += v.capacity() * sizeof(T);
   return bytes;
 }

@@ -74,6 +74,8 @@ class Rasterizer {
   void for_ranges(std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn);
 
   [[nodiscard]] const Projection<T>& projection() const { return proj_; }
+  /// Ids of the Gaussians the last forward pass did not cull, ascending.
+  [[nodiscard]] const std::vector<int>& visible_ids() const { return visible_ids_; }
   [[nodiscard]] std::size_t tile_pairs() const { return tile_ids_.size(); }
   /// Most Gaussian-tile pairs one forward pass takes (1 GiB of tile ids); more throws
   /// std::length_error naming the counts (bin_tiles sums in 64 bits).
@@ -105,6 +107,7 @@ class Rasterizer {
   std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread
   std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
   int n_visible_ = 0;
+  std::vector<int> visible_ids_;                  ///< slot -> Gaussian id
   std::vector<std::vector<T>> thread_grad_;       ///< per thread, 10 per visible Gaussian
   std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
   bool used_simd_ = false;

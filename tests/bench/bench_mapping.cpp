@@ -2,7 +2,8 @@
 // opacity 0.1 (fresh) or 0.5-1 (trained-like). Each measurement runs beside the single-threaded
 // scalar reference of the same math (Reference/...), so the ratio is meaningful on a shared
 // machine. The CPU column is process CPU time (all threads), the wall column real time.
-// Counters: gaussians, visible tile pairs, bytes per Gaussian.
+// Counters: gaussians, visible tile pairs, bytes per Gaussian. BM_IterationLargeMap: an
+// iteration on a map twenty rooms long, Adam dense against visible-only.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -117,6 +118,38 @@ void BM_Iteration(benchmark::State& state, bool reference) {
   state.counters["bytes_per_gaussian"] = opt.bytes_per_gaussian(map);
 }
 
+/// The room map plus `copies` copies of it, each 30 m further along world x: a large map of
+/// which the view sees one room (on the live office the camera sees a few hundred thousand of
+/// four million Gaussians). Adam dense (every Gaussian, torch.optim.Adam) against visible-only.
+void BM_IterationLargeMap(benchmark::State& state) {
+  const int copies = static_cast<int>(state.range(0));
+  const bool visible_only = state.range(1) != 0;
+  const Scene& s = scene(640, 1);
+  mapping::GaussianMap map = s.map;
+  const std::size_t room = s.map.size();
+  map.reserve(room * static_cast<std::size_t>(copies + 1));
+  for (int c = 1; c <= copies; ++c)
+    for (std::size_t i = 0; i < room; ++i) {
+      const float mean[3] = {s.map.mean_w[3 * i] + 30.0f * static_cast<float>(c),
+                             s.map.mean_w[3 * i + 1], s.map.mean_w[3 * i + 2]};
+      map.push_back(mean, &s.map.log_scale[3 * i], &s.map.quat_wxyz[4 * i], s.map.opacity_logit[i],
+                    &s.map.color_rgb[3 * i]);
+    }
+  auto pool = make_pool(false);
+  config::MappingSettings ms;
+  ms.prune_every = 1000000;
+  ms.adam.visible_only = visible_only;
+  mapping::MapOptimizer opt(ms, pool.get());
+  const mapping::TrainingView view{mapping::RenderCamera::from(s.k, s.view.T_w_c), s.rgb.data(),
+                                   s.depth.data()};
+  for (auto _ : state) {
+    const auto terms = opt.iterate(map, view);
+    benchmark::DoNotOptimize(terms.total);
+  }
+  state.counters["gaussians"] = static_cast<double>(map.size());
+  state.counters["visible"] = static_cast<double>(opt.rasterizer().visible_ids().size());
+}
+
 void args(benchmark::internal::Benchmark* b) {
   for (int w : {320, 640})
     for (int op : {0, 1}) b->Args({w, op});
@@ -132,6 +165,12 @@ BENCHMARK_CAPTURE(BM_Backward, Tiled2Threads, false)->Apply(args);
 BENCHMARK_CAPTURE(BM_Backward, Reference, true)->Apply(args);
 BENCHMARK_CAPTURE(BM_Iteration, Tiled2ThreadsSimd, false)->Apply(args);
 BENCHMARK_CAPTURE(BM_Iteration, Reference, true)->Apply(args);
+BENCHMARK(BM_IterationLargeMap)
+    ->ArgsProduct({{0, 19}, {0, 1}})
+    ->ArgNames({"copies", "visible_only"})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 }  // namespace
 

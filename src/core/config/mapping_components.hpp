@@ -23,6 +23,9 @@ struct AdamSettings {
   double beta1 = 0.9;    ///< not in the robot file
   double beta2 = 0.999;  ///< not in the robot file
   double eps = 1e-15;    ///< as 3DGS; not in the robot file
+  /// Step only the Gaussians the iteration's view sees (Adam::step_selected); false: every
+  /// Gaussian, as torch.optim.Adam.
+  bool visible_only = true;
 };
 
 /// mapping::PruneSettings: Gaussians below min_opacity or with a standard deviation above

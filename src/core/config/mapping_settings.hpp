@@ -33,6 +33,10 @@ struct MappingSettings {
     v.field("lr_quat", adam.lr_quat, {"-", 0.0, 1.0, "Adam step size of quaternions"});
     v.field("lr_opacity", adam.lr_opacity, {"-", 0.0, 1.0, "Adam step size of opacity logits"});
     v.field("lr_color", adam.lr_color, {"-", 0.0, 1.0, "Adam step size of RGB colour"});
+    v.field("adam_visible_only", adam.visible_only,
+            "Adam steps only the Gaussians the iteration's view sees (gsplat's selective Adam): "
+            "an iteration costs what the view sees, not the map; off: every Gaussian moves by its "
+            "momentum each iteration");
     v.field("prune_every", prune_every, {"iterations", 1, 100000, "pruning period"});
     v.field("prune_min_opacity", prune.min_opacity,
             {"-", 0.0, 1.0, "Gaussians below this opacity are pruned"});
