@@ -26,11 +26,12 @@ MapOptimizer::MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* poo
     : s_(s),
       raster_(RasterSettings{}, pool),
       loss_(s.loss, pool, s.far_field.depth_m > 0.0),
-      adam_(s.adam) {}
+      adam_(s.adam),
+      use_blocks_(s.block_culling) {}
 
 LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& view,
                                        std::size_t* pruned) {
-  raster_.forward(map, view.camera, render_);
+  raster_.forward(map, view.camera, render_, blocks());
   const std::size_t np = static_cast<std::size_t>(render_.width) * render_.height;
   v_color_.resize(3 * np);
   v_depth_.resize(np);
@@ -47,8 +48,10 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
   };
   if (adam_.settings().visible_only) {
     adam_.step_selected(map, raster_.visible_ids(), grad_of, ranges);
+    blocks_.mark_changed(raster_.visible_ids());
   } else {
     adam_.step_fused(map, grad_of, ranges);
+    blocks_.invalidate();  // momentum moved Gaussians outside the view too
   }
   ++iterations_;
   std::size_t removed = 0;
@@ -64,11 +67,12 @@ std::size_t MapOptimizer::prune(GaussianMap& map) {
 
 std::size_t MapOptimizer::remove(GaussianMap& map, const std::vector<char>& keep) {
   adam_.compact(keep);
+  blocks_.invalidate();
   return map.compact(keep);
 }
 
 std::size_t MapOptimizer::buffer_bytes() const {
-  return raster_.cache_bytes() + prune_keep_.capacity();
+  return raster_.cache_bytes() + prune_keep_.capacity() + blocks_.bytes();
 }
 
 std::size_t MapOptimizer::view_bytes() const {

@@ -55,6 +55,16 @@ class MapOptimizer {
   [[nodiscard]] std::size_t view_bytes() const;
 
   Rasterizer<float>& rasterizer() { return raster_; }
+  /// Block bounds of the map this optimiser trains (map_blocks.hpp), kept true by iterate(),
+  /// prune() and remove(); pass them to other forward passes over the same map. Null when
+  /// block culling is off.
+  [[nodiscard]] MapBlocks* blocks() { return use_blocks_ ? &blocks_ : nullptr; }
+  /// Block culling on (the default) or off (every Gaussian projected: the baseline it is
+  /// measured against; the renders are the same).
+  void use_blocks(bool on) {
+    use_blocks_ = on;
+    blocks_.invalidate();
+  }
   Adam& adam() { return adam_; }
   [[nodiscard]] long iterations() const { return iterations_; }
   [[nodiscard]] const RenderResult<float>& last_render() const { return render_; }
@@ -67,6 +77,8 @@ class MapOptimizer {
   RenderResult<float> render_;
   std::vector<float> v_color_, v_depth_;
   std::vector<char> prune_keep_;
+  MapBlocks blocks_;
+  bool use_blocks_ = true;
   long iterations_ = 0;
 };
 

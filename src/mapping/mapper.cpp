@@ -75,7 +75,7 @@ void Mapper::tick() {
     prune_seen_through(*kf);
     const std::vector<char>* keep = nullptr;
     if (map_.size() > 0 && kf->camera.width_px > 0) {
-      optimizer_.rasterizer().forward(map_, kf->camera, gate_render_);
+      optimizer_.rasterizer().forward(map_, kf->camera, gate_render_, optimizer_.blocks());
       const std::size_t kept =
           gate_points(kf->gaussians, kf->camera, gate_render_, gate_, gate_keep_);
       gated_.add(kf->gaussians.points_c.size() - kept);
@@ -127,12 +127,15 @@ void Mapper::after_prune() {
 
 void Mapper::prune_seen_through(const MapperKeyframe& kf) {
   if (!s_.see_through.enabled || kf.depth_m.empty() || kf.camera.width_px <= 0) return;
-  const std::size_t condemned =
-      seen_through_.vote(map_, kf.camera, kf.depth_m.data(), see_through_keep_);
+  const std::size_t condemned = seen_through_.vote(map_, kf.camera, kf.depth_m.data(),
+                                                   see_through_keep_, optimizer_.blocks());
   if (condemned == 0) return;
   inserter_.forget(map_, see_through_keep_);  // not a rebuild: that is O(map) per keyframe
-  optimizer_.remove(map_, see_through_keep_);
-  seen_through_.compact(see_through_keep_);
+  // Marked removed, not compacted: they leave the render at once, and the optimiser's next
+  // prune compacts them out with the map's other thin Gaussians (after_prune() then compacts
+  // the see-through counts), instead of an O(map) compaction per keyframe.
+  for (std::size_t i = 0; i < see_through_keep_.size(); ++i)
+    if (!see_through_keep_[i]) map_.opacity_logit[i] = kRemovedLogit;
   seen_through_pruned_.add(condemned);
 }
 

@@ -44,7 +44,8 @@ void Rasterizer<T>::run(const std::function<void(int)>& fn, int) {
 }
 
 template <class T>
-void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& cam) {
+void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& cam,
+                                MapBlocks* blocks) {
   const std::size_t n = g.size();
   proj_.mean2d.resize(2 * n);
   proj_.conic.resize(3 * n);
@@ -52,12 +53,17 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
   proj_.opacity.resize(n);
   proj_.radius.resize(n);
   const T near_m = T(settings_.near_m), eps = T(settings_.eps2d_px2);
-  const int nt = threads();
-  run([&](int t) {
-    std::size_t b, e;
-    split(n, nt, t, b, e);
+  // A Gaussian whose opacity is under min_alpha never reaches it at any pixel (both kernels
+  // skip it: its sigma cut-off is negative), so culling it here renders exactly the same; this
+  // is how a removed-but-not-yet-compacted Gaussian (kRemovedLogit) leaves the render at once.
+  const T min_alpha = T(settings_.min_alpha);
+  auto project_range = [&](std::size_t b, std::size_t e) {
     ProjectedGaussian<T> pg;
     for (std::size_t i = b; i < e; ++i) {
+      if (sigmoid(g.opacity_logit[i]) < min_alpha) {
+        proj_.radius[i] = 0;
+        continue;
+      }
       project_gaussian(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i], near_m, eps,
                        pg);
       proj_.radius[i] = pg.radius;
@@ -68,7 +74,51 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
       proj_.depth[i] = pg.depth;
       proj_.opacity[i] = sigmoid(g.opacity_logit[i]);
     }
+  };
+  const int nt = threads();
+  culled_blocks_ = 0;
+  if constexpr (std::is_same_v<T, float>) {
+    if (blocks) {
+      blocks->update(g);
+      const std::size_t nb = blocks->blocks();
+      block_projected_.resize(nb);
+      // interleaved blocks: the visible ones are usually a few neighbouring runs
+      run([&](int t) {
+        for (std::size_t b = static_cast<std::size_t>(t); b < nb;
+             b += static_cast<std::size_t>(nt)) {
+          const std::size_t lo = b * MapBlocks::kBlock, hi = std::min(n, lo + MapBlocks::kBlock);
+          const bool seen = blocks->may_be_visible(b, cam, settings_);
+          block_projected_[b] = seen ? 1 : 0;
+          if (seen) {
+            project_range(lo, hi);
+          } else {
+            std::fill(proj_.radius.begin() + static_cast<std::ptrdiff_t>(lo),
+                      proj_.radius.begin() + static_cast<std::ptrdiff_t>(hi), 0);
+          }
+        }
+      });
+      ranges_.clear();
+      for (std::size_t b = 0; b < nb; ++b) {
+        if (!block_projected_[b]) {
+          ++culled_blocks_;
+          continue;
+        }
+        const std::size_t lo = b * MapBlocks::kBlock, hi = std::min(n, lo + MapBlocks::kBlock);
+        if (!ranges_.empty() && ranges_.back().second == lo) {
+          ranges_.back().second = hi;
+        } else {
+          ranges_.emplace_back(lo, hi);
+        }
+      }
+      return;
+    }
+  }
+  run([&](int t) {
+    std::size_t b, e;
+    split(n, nt, t, b, e);
+    project_range(b, e);
   });
+  ranges_.assign(1, {0, n});
 }
 
 template <class T>
@@ -92,41 +142,45 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
   // before they are counted, so a map whose Gaussians cover too many tiles is a clear error, not
   // an overflowed offset.
+  // Only the ranges the projection looked at: a culled block's Gaussians have radius 0, and
+  // their visible_slot_ entries are never read (every reader checks the radius first).
   std::int64_t pairs = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (proj_.radius[i] == 0) {
-      visible_slot_[i] = -1;
-      continue;
+  for (const auto& [lo, hi] : ranges_)
+    for (std::size_t i = lo; i < hi; ++i) {
+      if (proj_.radius[i] == 0) {
+        visible_slot_[i] = -1;
+        continue;
+      }
+      visible_ids_[static_cast<std::size_t>(n_visible_)] = static_cast<int>(i);
+      visible_slot_[i] = n_visible_++;
+      int x0, y0, x1, y1;
+      rect_of(i, x0, y0, x1, y1);
+      if (x1 >= x0 && y1 >= y0) pairs += std::int64_t{x1 - x0 + 1} * (y1 - y0 + 1);
+      if (pairs > kMaxTilePairs) {
+        throw std::length_error("rasterizer: more than " + std::to_string(kMaxTilePairs) +
+                                " Gaussian-tile pairs (at Gaussian " + std::to_string(i) + " of " +
+                                std::to_string(n) + ", " + std::to_string(n_tiles) + " tiles of " +
+                                std::to_string(kTilePx) +
+                                " px); the map has too many or too large Gaussians for this view");
+      }
+      for (int ty = y0; ty <= y1; ++ty)
+        for (int tx = x0; tx <= x1; ++tx)
+          ++tile_offsets_[static_cast<std::size_t>(ty * tiles_x_ + tx) + 1];
     }
-    visible_ids_[static_cast<std::size_t>(n_visible_)] = static_cast<int>(i);
-    visible_slot_[i] = n_visible_++;
-    int x0, y0, x1, y1;
-    rect_of(i, x0, y0, x1, y1);
-    if (x1 >= x0 && y1 >= y0) pairs += std::int64_t{x1 - x0 + 1} * (y1 - y0 + 1);
-    if (pairs > kMaxTilePairs) {
-      throw std::length_error("rasterizer: more than " + std::to_string(kMaxTilePairs) +
-                              " Gaussian-tile pairs (at Gaussian " + std::to_string(i) + " of " +
-                              std::to_string(n) + ", " + std::to_string(n_tiles) + " tiles of " +
-                              std::to_string(kTilePx) +
-                              " px); the map has too many or too large Gaussians for this view");
-    }
-    for (int ty = y0; ty <= y1; ++ty)
-      for (int tx = x0; tx <= x1; ++tx)
-        ++tile_offsets_[static_cast<std::size_t>(ty * tiles_x_ + tx) + 1];
-  }
   visible_ids_.resize(static_cast<std::size_t>(n_visible_));
   for (int t = 0; t < n_tiles; ++t) tile_offsets_[t + 1] += tile_offsets_[t];
   tile_ids_.resize(static_cast<std::size_t>(tile_offsets_[n_tiles]));
   tile_cursor_.assign(tile_offsets_.begin(), tile_offsets_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (proj_.radius[i] == 0) continue;
-    int x0, y0, x1, y1;
-    rect_of(i, x0, y0, x1, y1);
-    for (int ty = y0; ty <= y1; ++ty)
-      for (int tx = x0; tx <= x1; ++tx)
-        tile_ids_[static_cast<std::size_t>(tile_cursor_[ty * tiles_x_ + tx]++)] =
-            static_cast<int>(i);
-  }
+  for (const auto& [lo, hi] : ranges_)
+    for (std::size_t i = lo; i < hi; ++i) {
+      if (proj_.radius[i] == 0) continue;
+      int x0, y0, x1, y1;
+      rect_of(i, x0, y0, x1, y1);
+      for (int ty = y0; ty <= y1; ++ty)
+        for (int tx = x0; tx <= x1; ++tx)
+          tile_ids_[static_cast<std::size_t>(tile_cursor_[ty * tiles_x_ + tx]++)] =
+              static_cast<int>(i);
+    }
   const int nt = threads();
   run([&](int t) {
     for (int tile = t; tile < n_tiles; tile += nt) {
@@ -164,8 +218,8 @@ void Rasterizer<T>::gather_tile(int tile, std::vector<TileGaussian<T>>& buf,
 
 template <class T>
 void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
-                            RenderResult<T>& out) {
-  project_all(g, cam);
+                            RenderResult<T>& out, MapBlocks* blocks) {
+  project_all(g, cam, blocks);
   bin_tiles(cam);
   const std::size_t n_px = static_cast<std::size_t>(cam.width_px) * cam.height_px;
   out.width = cam.width_px;

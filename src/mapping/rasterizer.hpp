@@ -6,9 +6,11 @@
 // summed in a fixed order at the end (no atomics), so results are bit-identical run to run.
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "mapping/gaussian_map.hpp"
+#include "mapping/map_blocks.hpp"
 #include "mapping/raster_settings.hpp"
 #include "mapping/render_camera.hpp"
 #include "mapping/tile_kernels.hpp"
@@ -51,7 +53,11 @@ class Rasterizer {
   [[nodiscard]] const RasterSettings& settings() const { return settings_; }
   RasterSettings& settings() { return settings_; }
 
-  void forward(const GaussianParams<T>& g, const RenderCamera& cam, RenderResult<T>& out);
+  /// With `blocks` (float maps only) whole blocks of Gaussians the camera cannot see are culled
+  /// before projection (map_blocks.hpp); the render is the same. forward() brings them up to
+  /// date with `g` first.
+  void forward(const GaussianParams<T>& g, const RenderCamera& cam, RenderResult<T>& out,
+               MapBlocks* blocks = nullptr);
 
   /// Gradients of a loss with respect to every parameter, given dL/d(colour), dL/d(depth) and
   /// dL/d(accumulated opacity) per pixel (depth and alpha may be null). Must follow forward()
@@ -77,6 +83,8 @@ class Rasterizer {
   /// Ids of the Gaussians the last forward pass did not cull, ascending.
   [[nodiscard]] const std::vector<int>& visible_ids() const { return visible_ids_; }
   [[nodiscard]] std::size_t tile_pairs() const { return tile_ids_.size(); }
+  /// Blocks the last forward pass culled whole (0 without blocks).
+  [[nodiscard]] std::size_t culled_blocks() const { return culled_blocks_; }
   /// Most Gaussian-tile pairs one forward pass takes (1 GiB of tile ids); more throws
   /// std::length_error naming the counts (bin_tiles sums in 64 bits).
   static constexpr std::int64_t kMaxTilePairs = std::int64_t{1} << 28;
@@ -90,7 +98,7 @@ class Rasterizer {
   [[nodiscard]] bool used_simd() const { return used_simd_; }
 
  private:
-  void project_all(const GaussianParams<T>& g, const RenderCamera& cam);
+  void project_all(const GaussianParams<T>& g, const RenderCamera& cam, MapBlocks* blocks);
   void bin_tiles(const RenderCamera& cam);
   void gather_tile(int tile, std::vector<TileGaussian<T>>& buf, const GaussianParams<T>& g) const;
   void run(const std::function<void(int)>& fn, int threads_hint = 0);
@@ -111,6 +119,11 @@ class Rasterizer {
   std::vector<std::vector<T>> thread_grad_;       ///< per thread, 10 per visible Gaussian
   std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
   bool used_simd_ = false;
+  std::size_t culled_blocks_ = 0;
+  std::vector<char> block_projected_;  ///< per block of the last forward with blocks
+  /// [begin, end) ranges of Gaussians the last projection looked at, ascending; the rest were
+  /// culled whole (radius 0)
+  std::vector<std::pair<std::size_t, std::size_t>> ranges_;
 };
 
 extern template class Rasterizer<float>;

@@ -17,7 +17,7 @@ void add_one(std::uint16_t& c) {
 }  // namespace
 
 std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
-                             std::vector<char>& keep) {
+                             std::vector<char>& keep, MapBlocks* blocks) {
   const std::size_t n = map.size();
   if (through_.size() > n) {  // the map lost Gaussians without compact(): counts are stale
     through_.clear();
@@ -29,13 +29,33 @@ std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, co
   far_.resize(n, 0);
   keep.assign(n, 1);
   if (!depth_m || cam.width_px < 3 || cam.height_px < 3) return 0;
+  std::size_t pruned = 0;
+  // The blocks' cull is the rasterizer's bound: it keeps every block with a mean inside the
+  // image in front of the camera, which is all this vote looks at (z > 1 mm: near plane 0).
+  RasterSettings rs;
+  rs.near_m = 0.0;
+  if (blocks) blocks->update(map);
+  const std::size_t nb = blocks ? blocks->blocks() : 1;
+  for (std::size_t blk = 0; blk < nb; ++blk) {
+    if (blocks && !blocks->may_be_visible(blk, cam, rs)) continue;
+    const std::size_t lo = blocks ? blk * MapBlocks::kBlock : 0;
+    const std::size_t hi = blocks ? std::min(n, lo + MapBlocks::kBlock) : n;
+    pruned += vote_range(map, cam, depth_m, lo, hi, keep);
+  }
+  return pruned;
+}
+
+std::size_t SeeThrough::vote_range(const GaussianMap& map, const RenderCamera& cam,
+                                   const float* depth_m, std::size_t lo, std::size_t hi,
+                                   std::vector<char>& keep) {
   const int w = cam.width_px, h = cam.height_px;
   const double* R = cam.R_c_w;
   const double* t = cam.t_c_w;
   const double frac = std::clamp(s_.min_fraction, 0.0, 1.0);
   const auto min_count = static_cast<std::uint16_t>(std::clamp(s_.min_count, 1, int{kMaxCount}));
   std::size_t pruned = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = lo; i < hi; ++i) {
+    if (map.opacity_logit[i] <= kRemovedLogit) continue;  // removed, awaiting compaction
     const float* m = &map.mean_w[3 * i];
     const double z = R[6] * m[0] + R[7] * m[1] + R[8] * m[2] + t[2];
     if (!(z > 1e-3)) continue;

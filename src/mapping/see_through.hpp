@@ -25,6 +25,7 @@
 
 #include "core/config/mapping_components.hpp"
 #include "mapping/gaussian_map.hpp"
+#include "mapping/map_blocks.hpp"
 #include "mapping/render_camera.hpp"
 
 namespace vigs::mapping {
@@ -38,9 +39,12 @@ class SeeThrough {
   /// Votes of one keyframe (camera `cam`, depth_m 1 per pixel: > 0 measured, 0 missing, < 0
   /// moving) for every Gaussian of `map`. Gaussians appended to the map since the last call
   /// start with no votes. keep[i] = 0 for the Gaussians to prune now (their votes meet the
-  /// rule); returns how many. The caller removes them from the map and calls compact(keep).
+  /// rule); returns how many. The caller removes them from the map and calls compact(keep),
+  /// or marks them removed (opacity logit kRemovedLogit: they no longer vote) and compacts
+  /// later. With `blocks` (brought up to date with `map` here) only blocks the camera may see
+  /// are visited; the votes are the same.
   std::size_t vote(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
-                   std::vector<char>& keep);
+                   std::vector<char>& keep, MapBlocks* blocks = nullptr);
 
   /// Keeps the counts of the Gaussians whose keep[i] is non-zero, as GaussianParams::compact.
   void compact(const std::vector<char>& keep);
@@ -58,6 +62,8 @@ class SeeThrough {
   [[nodiscard]] const SeeThroughSettings& settings() const { return s_; }
 
  private:
+  std::size_t vote_range(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
+                         std::size_t lo, std::size_t hi, std::vector<char>& keep);
   SeeThroughSettings s_;
   std::vector<std::uint16_t> through_, seen_;
   std::vector<std::uint8_t> far_;

@@ -120,10 +120,12 @@ void BM_Iteration(benchmark::State& state, bool reference) {
 
 /// The room map plus `copies` copies of it, each 30 m further along world x: a large map of
 /// which the view sees one room (on the live office the camera sees a few hundred thousand of
-/// four million Gaussians). Adam dense (every Gaussian, torch.optim.Adam) against visible-only.
+/// four million Gaussians). Adam dense (every Gaussian, torch.optim.Adam) against visible-only,
+/// and every Gaussian projected against block culling (map_blocks.hpp).
 void BM_IterationLargeMap(benchmark::State& state) {
   const int copies = static_cast<int>(state.range(0));
   const bool visible_only = state.range(1) != 0;
+  const bool blocks = state.range(2) != 0;
   const Scene& s = scene(640, 1);
   mapping::GaussianMap map = s.map;
   const std::size_t room = s.map.size();
@@ -140,6 +142,7 @@ void BM_IterationLargeMap(benchmark::State& state) {
   ms.prune_every = 1000000;
   ms.adam.visible_only = visible_only;
   mapping::MapOptimizer opt(ms, pool.get());
+  opt.use_blocks(blocks);
   const mapping::TrainingView view{mapping::RenderCamera::from(s.k, s.view.T_w_c), s.rgb.data(),
                                    s.depth.data()};
   for (auto _ : state) {
@@ -147,6 +150,7 @@ void BM_IterationLargeMap(benchmark::State& state) {
     benchmark::DoNotOptimize(terms.total);
   }
   state.counters["gaussians"] = static_cast<double>(map.size());
+  state.counters["culled_blocks"] = static_cast<double>(opt.rasterizer().culled_blocks());
   state.counters["visible"] = static_cast<double>(opt.rasterizer().visible_ids().size());
 }
 
@@ -166,8 +170,12 @@ BENCHMARK_CAPTURE(BM_Backward, Reference, true)->Apply(args);
 BENCHMARK_CAPTURE(BM_Iteration, Tiled2ThreadsSimd, false)->Apply(args);
 BENCHMARK_CAPTURE(BM_Iteration, Reference, true)->Apply(args);
 BENCHMARK(BM_IterationLargeMap)
-    ->ArgsProduct({{0, 19}, {0, 1}})
-    ->ArgNames({"copies", "visible_only"})
+    ->Args({0, 0, 0})
+    ->Args({0, 1, 1})
+    ->Args({19, 0, 0})
+    ->Args({19, 1, 0})
+    ->Args({19, 1, 1})
+    ->ArgNames({"copies", "visible_only", "blocks"})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();

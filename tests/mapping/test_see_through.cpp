@@ -227,6 +227,7 @@ TEST(SeeThrough, MapperPrunesAGhostOnlyWhenEnabled) {
     config::MappingSettings s;
     s.far_field.depth_m = 0.0;
     s.see_through.enabled = enabled;
+    s.prune_every = 5;  // after the three ticks below
     KeyframeRing ring(8);
     Mapper mapper(s, ring, nullptr);
     // a person's Gaussian, inserted from a keyframe that saw it 1.5 m away
@@ -244,7 +245,13 @@ TEST(SeeThrough, MapperPrunesAGhostOnlyWhenEnabled) {
     ASSERT_TRUE(ring.try_push(view_keyframe(2, flat_depth(3.0f))));
     mapper.tick();
     EXPECT_EQ(mapper.seen_through_pruned(), enabled ? 1u : 0u);
-    EXPECT_EQ(mapper.map().size(), enabled ? 0u : 1u);
+    // removed at once (transparent: culled from every render), compacted at the next prune
+    ASSERT_EQ(mapper.map().size(), 1u);
+    EXPECT_EQ(mapper.map().opacity_logit[0] == kRemovedLogit, enabled);
+    if (enabled) {
+      for (int t = 0; t < s.prune_every; ++t) mapper.tick();
+      EXPECT_EQ(mapper.map().size(), 0u);
+    }
   }
 }
 

@@ -23,6 +23,7 @@ struct MappingSettings {
   int iterations_per_tick = 1;
   double budget_ms = 0.0;  ///< > 0 replaces iterations_per_tick
   int window_keyframes = 8;
+  bool block_culling = true;  ///< mapping/map_blocks.hpp
   int random_keyframes = 2;
 
   void visit(Visitor& v) {
@@ -37,6 +38,10 @@ struct MappingSettings {
             "Adam steps only the Gaussians the iteration's view sees (gsplat's selective Adam): "
             "an iteration costs what the view sees, not the map; off: every Gaussian moves by its "
             "momentum each iteration");
+    v.field("block_culling", block_culling,
+            "skip whole blocks of 1024 Gaussians that a view cannot see before projecting, in "
+            "every render and the see-through vote (the result is the same; off: every "
+            "Gaussian of the map is projected, the baseline it is measured against)");
     v.field("prune_every", prune_every, {"iterations", 1, 100000, "pruning period"});
     v.field("prune_min_opacity", prune.min_opacity,
             {"-", 0.0, 1.0, "Gaussians below this opacity are pruned"});
