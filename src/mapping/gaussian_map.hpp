@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/capacity_bytes.hpp"
+
 namespace vigs::mapping {
 
 /// Colour is stored as RGB in [0, 1] (spherical-harmonics degree 0 evaluated). Higher SH
@@ -21,9 +23,7 @@ struct GaussianParams {
   [[nodiscard]] std::size_t size() const { return opacity_logit.size(); }
   /// Bytes held by the five arrays (their capacities).
   [[nodiscard]] std::size_t capacity_bytes() const {
-    return (mean_w.capacity() + log_scale.capacity() + quat_wxyz.capacity() +
-            opacity_logit.capacity() + color_rgb.capacity()) *
-           sizeof(T);
+    return vigs::capacity_bytes(mean_w, log_scale, quat_wxyz, opacity_logit, color_rgb);
   }
 
   void resize(std::size_t n) {

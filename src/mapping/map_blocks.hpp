@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/capacity_bytes.hpp"
 #include "mapping/gaussian_map.hpp"
 #include "mapping/raster_settings.hpp"
 #include "mapping/render_camera.hpp"
@@ -38,9 +39,7 @@ class MapBlocks {
                                     const RasterSettings& rs) const;
   [[nodiscard]] std::size_t blocks() const { return bounds_.size(); }
   [[nodiscard]] std::size_t gaussians() const { return n_; }
-  [[nodiscard]] std::size_t bytes() const {
-    return bounds_.capacity() * sizeof(Bound) + dirty_.capacity();
-  }
+  [[nodiscard]] std::size_t bytes() const { return capacity_bytes(bounds_, dirty_); }
 
  private:
   struct Bound {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/capacity_bytes.hpp"
 #include "rt/clock.hpp"
 #include "rt/queue_policy.hpp"
 
@@ -138,13 +139,6 @@ void Mapper::prune_seen_through(const MapperKeyframe& kf) {
     if (!see_through_keep_[i]) map_.opacity_logit[i] = kRemovedLogit;
   seen_through_pruned_.add(condemned);
 }
-
-namespace {
-template <class T>
-std::size_t capacity_bytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
-}
-}  // namespace
 
 MapperMemory Mapper::memory() const {
   MapperMemory m;

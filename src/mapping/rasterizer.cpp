@@ -7,6 +7,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/capacity_bytes.hpp"
 #include "mapping/projection.hpp"
 #include "mapping/raster_simd.hpp"
 
@@ -362,13 +363,9 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
 
 template <class T>
 std::size_t Rasterizer<T>::cache_bytes() const {
-  std::size_t bytes = (proj_.mean2d.capacity() + proj_.conic.capacity() + proj_.depth.capacity() +
-                       proj_.opacity.capacity()) *
-                          sizeof(T) +
-                      proj_.radius.capacity() * sizeof(int);
-  bytes +=
-      (tile_ids_.capacity() + visible_slot_.capacity() + visible_ids_.capacity()) * sizeof(int);
-  for (const auto& v : thread_grad_) bytes += v.capacity() * sizeof(T);
+  std::size_t bytes = capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.opacity,
+                                     proj_.radius, tile_ids_, visible_slot_, visible_ids_);
+  for (const auto& v : thread_grad_) bytes += capacity_bytes(v);
   return bytes;
 }
 

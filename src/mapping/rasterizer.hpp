@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/capacity_bytes.hpp"
 #include "mapping/gaussian_map.hpp"
 #include "mapping/map_blocks.hpp"
 #include "mapping/raster_settings.hpp"
@@ -29,8 +30,7 @@ struct RenderResult {
   [[nodiscard]] T alpha(int p) const { return T(1) - final_T[static_cast<std::size_t>(p)]; }
   /// Bytes held by the per-pixel arrays (their capacities).
   [[nodiscard]] std::size_t capacity_bytes() const {
-    return (color.capacity() + depth.capacity() + final_T.capacity()) * sizeof(T) +
-           n_contrib.capacity() * sizeof(int);
+    return vigs::capacity_bytes(color, depth, final_T, n_contrib);
   }
 };
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/capacity_bytes.hpp"
 #include "tracking/gicp_impl.hpp"
 
 namespace vigs::tracking {
@@ -57,11 +58,7 @@ void LocalMap::clear() {
 }
 
 std::size_t LocalMap::memory_bytes() const {
-  return points_w_.capacity() * sizeof(Eigen::Vector3f) +
-         covs_w_.capacity() * sizeof(Eigen::Matrix3f) + confirmed_.capacity() +
-         born_.capacity() * sizeof(std::uint32_t) + voxels_.capacity() * sizeof(Voxel) +
-         table_.capacity() * sizeof(std::uint32_t) + free_.capacity() * sizeof(std::uint32_t) +
-         scratch_.capacity() * sizeof(scratch_[0]);
+  return capacity_bytes(points_w_, covs_w_, confirmed_, born_, voxels_, table_, free_, scratch_);
 }
 
 std::int64_t LocalMap::key_of(const Eigen::Vector3f& p) const {

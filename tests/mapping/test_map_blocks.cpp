@@ -119,10 +119,9 @@ TEST(MapBlocks, StayTrueWhileTheOptimiserMovesPrunesAndTheMapGrows) {
     }
     // the moved Gaussians were in view: sweep the image edges across them
     const RenderCamera& c = cams[it];
-    const Eigen::Vector3d p_w = -Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
-                                     c.R_c_w)
-                                     .transpose() *
-                                 Eigen::Vector3d(c.t_c_w[0], c.t_c_w[1], c.t_c_w[2]);
+    const Eigen::Vector3d p_w =
+        -Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(c.R_c_w).transpose() *
+        Eigen::Vector3d(c.t_c_w[0], c.t_c_w[1], c.t_c_w[2]);
     const double yaw = std::atan2(c.R_c_w[7], c.R_c_w[6]);  // camera z axis in the world
     for (int k = -12; k <= 12; ++k)
       expect_same_render(g, camera(p_w.x(), p_w.y(), yaw + 0.04 * k), *opt.blocks(), culled,
