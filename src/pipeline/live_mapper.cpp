@@ -17,6 +17,7 @@ LiveMapper::LiveMapper(const config::MappingSettings& s, const PinholeCamera& ca
       depth_scale_m_(depth_scale_m),
       moving_mask_(s.moving_mask),
       stride_px_(std::max(1, tracker_pixel_stride)),
+      sample_angle_rad_(keyframe_sample_angle_rad(camera, stride_px_)),
       pool_(pool),
       handoff_(handoff),
       team_(s.threads, worker_spec),
@@ -44,7 +45,7 @@ void LiveMapper::tick() {
       mask_moving_pixels(slot.keyframe, camera_, stride_px_, moving_mask_.dilation_px, depth_m);
     auto m = std::make_unique<mapping::MapperKeyframe>();
     m->id = next_id_++;
-    m->gaussians = to_keyframe_gaussians(slot.keyframe);
+    m->gaussians = to_keyframe_gaussians(slot.keyframe, sample_angle_rad_);
     m->camera = mapping::RenderCamera::from(camera_, slot.keyframe.T_w_c);
     m->rgb.resize(rgb.data.size());
     for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;

@@ -23,7 +23,7 @@ LockstepMapper::LockstepMapper(const config::MappingSettings& s, const PinholeCa
     : camera_(camera),
       moving_mask_(s.moving_mask),
       stride_px_(std::max(1, tracker_pixel_stride)),
-      sample_angle_rad_(2.0 * stride_px_ / (camera.fx_px + camera.fy_px)),
+      sample_angle_rad_(keyframe_sample_angle_rad(camera, stride_px_)),
       pool_(s.threads, rt::ThreadSpec{.name = "mapper_w1"}),
       ring_(8),
       // max_pending 4: a replay adds at most one keyframe per tick, so nothing is skipped.

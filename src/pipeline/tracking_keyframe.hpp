@@ -6,16 +6,26 @@
 // divided by max(1, 2 z^1.5)). Points the tracker flagged moving (Keyframe::moving) are left
 // out. In the pipeline, which joins the two, so that neither mapping nor
 // tracking knows the other.
+#include <algorithm>
+
+#include "core/types/pinhole_camera.hpp"
 #include "mapping/keyframe_gaussians.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
 namespace vigs::pipeline {
 
-/// Copies (allocates): call on the mapper side, not on the tracker thread. `sample_angle_rad`
-/// is the tracker's pixel stride over the focal length (mapping/insertion.hpp: footprint-sized
-/// Gaussians); 0 keeps the GS-ICP SLAM scale rule.
+/// The angle between neighbouring samples of a keyframe's points: the tracker's pixel stride
+/// over the mean focal length.
+inline double keyframe_sample_angle_rad(const PinholeCamera& camera, int tracker_pixel_stride) {
+  return 2.0 * std::max(1, tracker_pixel_stride) / (camera.fx_px + camera.fy_px);
+}
+
+/// Copies (allocates): call on the mapper side, not on the tracker thread. `sample_angle_rad`:
+/// keyframe_sample_angle_rad() (mapping/insertion.hpp: footprint-sized Gaussians); 0 keeps the
+/// GS-ICP SLAM scale rule. No default: the live mapper once left it out and inserted every
+/// real-time keyframe with GS-ICP SLAM's far smaller scales (a speckled map, 15 dB).
 inline mapping::KeyframeGaussians to_keyframe_gaussians(const tracking::Keyframe& kf,
-                                                        double sample_angle_rad = 0.0) {
+                                                        double sample_angle_rad) {
   mapping::KeyframeGaussians out;
   out.T_w_c = kf.T_w_c;
   out.sample_angle_rad = sample_angle_rad;

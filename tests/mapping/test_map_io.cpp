@@ -178,7 +178,7 @@ TEST(MappingInsertion, TrackerKeyframesInsertFromTheRawCovariance) {
   kf.cloud_c.cov_raw_m2.push_back(Eigen::Vector3f(9e-4f, 4e-4f, 1e-6f).asDiagonal());
   kf.cloud_c.cov_m2.push_back(Eigen::Vector3f(2.25f, 1.0f, 1e-3f).asDiagonal());
   kf.cloud_c.colors_rgb.push_back({255, 0, 51});
-  const KeyframeGaussians g = pipeline::to_keyframe_gaussians(kf);
+  const KeyframeGaussians g = pipeline::to_keyframe_gaussians(kf, 0.0);  // GS-ICP SLAM rule
   GaussianMap map;
   GaussianInserter ins(InsertSettings{0.02, 0.1, 1e-5});
   ASSERT_EQ(ins.insert(map, g), 1u);
