@@ -14,8 +14,7 @@ template <class T, class A>
 
 /// The sum over several vectors.
 template <class... V>
-  requires(sizeof...(V) > 1)
-[[nodiscard]] constexpr std::size_t capacity_bytes(const V&... v) {
+requires(sizeof...(V) > 1) [[nodiscard]] constexpr std::size_t capacity_bytes(const V&... v) {
   return (capacity_bytes(v) + ...);
 }
 

@@ -26,8 +26,7 @@ TEST(LiveMapperInsertion, KeyframePointsGetFootprintSizedGaussians) {
   s.moving_mask.enabled = false;
   s.iterations_per_tick = 0;  // the inserted Gaussians as they were inserted
   s.threads = 1;
-  LiveMapper mapper(s, camera, 0.001f, pool, handoff, rt::ThreadSpec{.name = "mapper_w1"},
-                    stride);
+  LiveMapper mapper(s, camera, 0.001f, pool, handoff, rt::ThreadSpec{.name = "mapper_w1"}, stride);
 
   // a wall 2 m ahead, sampled every `stride` pixels, with a flat kNN covariance
   const rt::FrameHandle fh = pool.acquire();
@@ -41,8 +40,8 @@ TEST(LiveMapperInsertion, KeyframePointsGetFootprintSizedGaussians) {
   for (int v = stride / 2; v < h; v += stride)
     for (int u = stride / 2; u < w; u += stride) {
       const float z = 2.0f;
-      slot->keyframe.cloud_c.points_m.emplace_back((u - 31.5f) * z / 60.0f,
-                                                   (v - 23.5f) * z / 60.0f, z);
+      slot->keyframe.cloud_c.points_m.emplace_back((u - 31.5f) * z / 60.0f, (v - 23.5f) * z / 60.0f,
+                                                   z);
       slot->keyframe.cloud_c.cov_raw_m2.push_back(
           Eigen::Vector3f(1e-3f, 1e-3f, 1e-7f).asDiagonal());
       slot->keyframe.cloud_c.cov_m2.push_back(Eigen::Matrix3f::Identity());
