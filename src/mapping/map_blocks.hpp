@@ -11,7 +11,9 @@
 //
 // Keeping the bounds true is the owner's job: mark_changed() for Gaussians whose mean or scale
 // changed (the optimiser's step), invalidate() after a compaction. Appends are found by size.
+#include <algorithm>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "core/capacity_bytes.hpp"
@@ -38,6 +40,11 @@ class MapBlocks {
   [[nodiscard]] bool may_be_visible(std::size_t b, const RenderCamera& cam,
                                     const RasterSettings& rs) const;
   [[nodiscard]] std::size_t blocks() const { return bounds_.size(); }
+  /// [begin, end) of the Gaussians in block b (as of the last update).
+  [[nodiscard]] std::pair<std::size_t, std::size_t> range(std::size_t b) const {
+    const std::size_t begin = b * kBlock;
+    return {begin, std::min(n_, begin + kBlock)};
+  }
   [[nodiscard]] std::size_t gaussians() const { return n_; }
   [[nodiscard]] std::size_t bytes() const { return capacity_bytes(bounds_, dirty_); }
 

@@ -61,7 +61,8 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
   auto project_range = [&](std::size_t b, std::size_t e) {
     ProjectedGaussian<T> pg;
     for (std::size_t i = b; i < e; ++i) {
-      if (sigmoid(g.opacity_logit[i]) < min_alpha) {
+      const T opacity = sigmoid(g.opacity_logit[i]);
+      if (opacity < min_alpha) {
         proj_.radius[i] = 0;
         continue;
       }
@@ -73,7 +74,7 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
       proj_.mean2d[2 * i + 1] = pg.mean2d[1];
       for (int k = 0; k < 3; ++k) proj_.conic[3 * i + k] = pg.conic[k];
       proj_.depth[i] = pg.depth;
-      proj_.opacity[i] = sigmoid(g.opacity_logit[i]);
+      proj_.opacity[i] = opacity;
     }
   };
   const int nt = threads();
@@ -87,7 +88,7 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
       run([&](int t) {
         for (std::size_t b = static_cast<std::size_t>(t); b < nb;
              b += static_cast<std::size_t>(nt)) {
-          const std::size_t lo = b * MapBlocks::kBlock, hi = std::min(n, lo + MapBlocks::kBlock);
+          const auto [lo, hi] = blocks->range(b);
           const bool seen = blocks->may_be_visible(b, cam, settings_);
           block_projected_[b] = seen ? 1 : 0;
           if (seen) {
@@ -104,7 +105,7 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
           ++culled_blocks_;
           continue;
         }
-        const std::size_t lo = b * MapBlocks::kBlock, hi = std::min(n, lo + MapBlocks::kBlock);
+        const auto [lo, hi] = blocks->range(b);
         if (!ranges_.empty() && ranges_.back().second == lo) {
           ranges_.back().second = hi;
         } else {

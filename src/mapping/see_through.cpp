@@ -29,17 +29,16 @@ std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, co
   far_.resize(n, 0);
   keep.assign(n, 1);
   if (!depth_m || cam.width_px < 3 || cam.height_px < 3) return 0;
-  std::size_t pruned = 0;
+  if (!blocks) return vote_range(map, cam, depth_m, 0, n, keep);
   // The blocks' cull is the rasterizer's bound: it keeps every block with a mean inside the
   // image in front of the camera, which is all this vote looks at (z > 1 mm: near plane 0).
   RasterSettings rs;
   rs.near_m = 0.0;
-  if (blocks) blocks->update(map);
-  const std::size_t nb = blocks ? blocks->blocks() : 1;
-  for (std::size_t blk = 0; blk < nb; ++blk) {
-    if (blocks && !blocks->may_be_visible(blk, cam, rs)) continue;
-    const std::size_t lo = blocks ? blk * MapBlocks::kBlock : 0;
-    const std::size_t hi = blocks ? std::min(n, lo + MapBlocks::kBlock) : n;
+  blocks->update(map);
+  std::size_t pruned = 0;
+  for (std::size_t b = 0; b < blocks->blocks(); ++b) {
+    if (!blocks->may_be_visible(b, cam, rs)) continue;
+    const auto [lo, hi] = blocks->range(b);
     pruned += vote_range(map, cam, depth_m, lo, hi, keep);
   }
   return pruned;

@@ -100,6 +100,18 @@ void BM_Backward(benchmark::State& state, bool reference) {
   set_counters(state, s, ras);
 }
 
+/// The timed loop of the iteration benchmarks: optimiser iterations on the scene's view.
+void iterate_on_scene_view(benchmark::State& state, mapping::MapOptimizer& opt,
+                           mapping::GaussianMap& map, const Scene& s) {
+  const mapping::TrainingView view{mapping::RenderCamera::from(s.k, s.view.T_w_c), s.rgb.data(),
+                                   s.depth.data()};
+  for (auto _ : state) {
+    const auto terms = opt.iterate(map, view);
+    benchmark::DoNotOptimize(terms.total);
+  }
+  state.counters["gaussians"] = static_cast<double>(map.size());
+}
+
 void BM_Iteration(benchmark::State& state, bool reference) {
   const Scene& s = scene(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   auto pool = make_pool(reference);
@@ -108,13 +120,7 @@ void BM_Iteration(benchmark::State& state, bool reference) {
   mapping::MapOptimizer opt(ms, pool.get());
   opt.rasterizer().settings() = raster_settings(reference);
   mapping::GaussianMap map = s.map;
-  const mapping::TrainingView view{mapping::RenderCamera::from(s.k, s.view.T_w_c), s.rgb.data(),
-                                   s.depth.data()};
-  for (auto _ : state) {
-    const auto terms = opt.iterate(map, view);
-    benchmark::DoNotOptimize(terms.total);
-  }
-  state.counters["gaussians"] = static_cast<double>(map.size());
+  iterate_on_scene_view(state, opt, map, s);
   state.counters["bytes_per_gaussian"] = opt.bytes_per_gaussian(map);
 }
 
@@ -143,13 +149,7 @@ void BM_IterationLargeMap(benchmark::State& state) {
   ms.adam.visible_only = visible_only;
   mapping::MapOptimizer opt(ms, pool.get());
   opt.use_blocks(blocks);
-  const mapping::TrainingView view{mapping::RenderCamera::from(s.k, s.view.T_w_c), s.rgb.data(),
-                                   s.depth.data()};
-  for (auto _ : state) {
-    const auto terms = opt.iterate(map, view);
-    benchmark::DoNotOptimize(terms.total);
-  }
-  state.counters["gaussians"] = static_cast<double>(map.size());
+  iterate_on_scene_view(state, opt, map, s);
   state.counters["culled_blocks"] = static_cast<double>(opt.rasterizer().culled_blocks());
   state.counters["visible"] = static_cast<double>(opt.rasterizer().visible_ids().size());
 }
