@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/capacity_bytes.hpp"
+#include "core/grow_by_eighths.hpp"
 
 namespace vigs::mapping {
 
@@ -26,12 +27,13 @@ struct GaussianParams {
     return vigs::capacity_bytes(mean_w, log_scale, quat_wxyz, opacity_logit, color_rgb);
   }
 
+  /// Grows capacity by eighths, not doubling (core/grow_by_eighths.hpp).
   void resize(std::size_t n) {
-    mean_w.resize(3 * n);
-    log_scale.resize(3 * n);
-    quat_wxyz.resize(4 * n);
-    opacity_logit.resize(n);
-    color_rgb.resize(3 * n);
+    resize_by_eighths(mean_w, 3 * n);
+    resize_by_eighths(log_scale, 3 * n);
+    resize_by_eighths(quat_wxyz, 4 * n);
+    resize_by_eighths(opacity_logit, n);
+    resize_by_eighths(color_rgb, 3 * n);
   }
   void assign_zero(std::size_t n) {
     mean_w.assign(3 * n, T(0));

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "core/capacity_bytes.hpp"
+#include "core/grow_by_eighths.hpp"
 #include "mapping/projection.hpp"
 #include "mapping/raster_simd.hpp"
 
@@ -48,11 +49,11 @@ template <class T>
 void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& cam,
                                 MapBlocks* blocks) {
   const std::size_t n = g.size();
-  proj_.mean2d.resize(2 * n);
-  proj_.conic.resize(3 * n);
-  proj_.depth.resize(n);
-  proj_.opacity.resize(n);
-  proj_.radius.resize(n);
+  resize_by_eighths(proj_.mean2d, 2 * n);  // the map grows a keyframe at a time
+  resize_by_eighths(proj_.conic, 3 * n);
+  resize_by_eighths(proj_.depth, n);
+  resize_by_eighths(proj_.opacity, n);
+  resize_by_eighths(proj_.radius, n);
   const T near_m = T(settings_.near_m), eps = T(settings_.eps2d_px2);
   // A Gaussian whose opacity is under min_alpha never reaches it at any pixel (both kernels
   // skip it: its sigma cut-off is negative), so culling it here renders exactly the same; this
@@ -138,8 +139,8 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
     x1 = std::min(tiles_x_ - 1, static_cast<int>(std::floor((u + r) / T(kTilePx))));
     y1 = std::min(tiles_y_ - 1, static_cast<int>(std::floor((v + r) / T(kTilePx))));
   };
-  visible_slot_.resize(n);
-  visible_ids_.resize(n);
+  resize_by_eighths(visible_slot_, n);
+  resize_by_eighths(visible_ids_, n);
   n_visible_ = 0;
   // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
   // before they are counted, so a map whose Gaussians cover too many tiles is a clear error, not
