@@ -59,6 +59,7 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   if (r.map) {
     s["gaussians"] = r.map->size();
     s["map_iterations"] = r.map_iterations;
+    s["map_coarse_iterations"] = r.map_coarse_iterations;
     s["map_ms_per_frame"] = n > 0 ? num(1e3 * r.map_s / frames) : io::Json(nullptr);
     s["map_budget_ms"] = r.map_budget_ms > 0 ? num(r.map_budget_ms) : io::Json(nullptr);
     s["map_budget_overruns"] = r.map_budget_overruns;

@@ -12,8 +12,12 @@ std::size_t insert_far_field(GaussianMap& map, const FarFieldView& view,
                              double cover, double opacity, double max_alpha, double max_sd_m) {
   const RenderCamera& cam = view.camera;
   if (!(s.depth_m > 0.0) || s.stride_px < 1 || !view.rgb || cam.width_px <= 0) return 0;
-  const bool gated = render && render->width == cam.width_px && render->height == cam.height_px;
   const int st = s.stride_px, w = cam.width_px, h = cam.height_px;
+  // the gating render is at the view's resolution or at half of it (half_res_view.hpp)
+  int down = 0;
+  if (render && render->width == w && render->height == h) down = 1;
+  if (render && render->width == w / 2 && render->height == h / 2 && w >= 2 && h >= 2) down = 2;
+  const bool gated = down > 0;
   // the plane comes closer where the footprint at depth_m would need more than max_sd_m
   const double footprint_rad = cover * st / std::min(cam.fx_px, cam.fy_px);
   const double z = std::min(s.depth_m, max_sd_m / footprint_rad);
@@ -49,7 +53,9 @@ std::size_t insert_far_field(GaussianMap& map, const FarFieldView& view,
           if (moving(p)) ++n_moving;
           if (!missing(p)) continue;
           for (int c = 0; c < 3; ++c) rgb[c] += view.rgb[3 * p + c];
-          if (gated) alpha += render->alpha(static_cast<int>(p));
+          if (gated)
+            alpha += render->alpha(std::min(v / down, render->height - 1) * render->width +
+                                   std::min(u / down, render->width - 1));
           ++n;
         }
       }

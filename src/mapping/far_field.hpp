@@ -35,7 +35,8 @@ struct FarFieldView {
 };
 
 /// Appends the view's far Gaussians to `map`; returns how many. `render` (the map rendered from
-/// view.camera; null = the map is empty there) gates them. Does nothing when s.depth_m <= 0.
+/// view.camera, at its resolution or at half_res_camera(); null = the map is empty there) gates
+/// them. Does nothing when s.depth_m <= 0.
 std::size_t insert_far_field(GaussianMap& map, const FarFieldView& view,
                              const RenderResult<float>* render, const FarFieldSettings& s,
                              double cover, double opacity, double max_alpha, double max_sd_m);

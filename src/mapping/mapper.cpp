@@ -42,9 +42,15 @@ std::size_t Mapper::next_view() {
 }
 
 void Mapper::iterate_once() {
-  const MapperKeyframe& kf = *keyframes_[next_view()];
-  const TrainingView view{kf.camera, kf.rgb.data(),
-                          kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
+  MapperKeyframe& kf = *keyframes_[next_view()];
+  const bool coarse = kf.trained < s_.coarse_iterations && !kf.half.rgb.empty();
+  const TrainingView view =
+      coarse ? TrainingView{kf.half.camera, kf.half.rgb.data(),
+                            kf.half.depth_m.empty() ? nullptr : kf.half.depth_m.data()}
+             : TrainingView{kf.camera, kf.rgb.data(),
+                            kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
+  ++kf.trained;
+  if (coarse) coarse_.add(1);
   std::size_t pruned = 0;
   const auto terms = optimizer_.iterate(map_, view, &pruned);
   if (pruned > 0) after_prune();
@@ -76,15 +82,19 @@ void Mapper::tick() {
     prune_seen_through(*kf);
     const std::vector<char>* keep = nullptr;
     if (map_.size() > 0 && kf->camera.width_px > 0) {
-      optimizer_.rasterizer().forward(map_, kf->camera, gate_render_, optimizer_.blocks());
+      const RenderCamera gate_camera = s_.gate_half_res ? half_res_camera(kf->camera) : kf->camera;
+      optimizer_.rasterizer().forward(map_, gate_camera, gate_render_, optimizer_.blocks());
       const std::size_t kept =
-          gate_points(kf->gaussians, kf->camera, gate_render_, gate_, gate_keep_);
+          gate_points(kf->gaussians, gate_camera, gate_render_, gate_, gate_keep_);
       gated_.add(kf->gaussians.points_c.size() - kept);
       keep = &gate_keep_;
     }
     inserter_.insert(map_, kf->gaussians, keep);
     insert_far_field(*kf, keep != nullptr);
     kf->gaussians = KeyframeGaussians{};  // points are in the map now; keep only the view
+    if (s_.coarse_iterations > 0 && kf->camera.width_px >= 2 && !kf->rgb.empty())
+      make_half_res_view(kf->camera, kf->rgb.data(),
+                         kf->depth_m.empty() ? nullptr : kf->depth_m.data(), kf->half);
     if (keyframes_.size() == max_keyframes_) keyframes_.erase(keyframes_.begin());
     keyframes_.push_back(std::move(kf));
     round_.clear();
@@ -152,7 +162,8 @@ MapperMemory Mapper::memory() const {
   for (const auto& kf : keyframes_) {
     const KeyframeGaussians& g = kf->gaussians;
     m.keyframes_bytes += sizeof(MapperKeyframe) + capacity_bytes(kf->rgb) +
-                         capacity_bytes(kf->depth_m) + capacity_bytes(g.points_c) +
+                         capacity_bytes(kf->depth_m) + capacity_bytes(kf->half.rgb) +
+                         capacity_bytes(kf->half.depth_m) + capacity_bytes(g.points_c) +
                          capacity_bytes(g.covariances_c) + capacity_bytes(g.colors);
   }
   if (const std::shared_ptr<const GaussianMap> snap = snapshot())

@@ -10,13 +10,18 @@
 // deterministic (the iteration count follows the wall clock).
 //
 // Insertion: a keyframe's points are first gated against a render of the map from the
-// keyframe's camera (insertion_gate.hpp: only where the map is missing or wrong), then inserted;
+// keyframe's camera (insertion_gate.hpp: only where the map is missing or wrong; at half
+// resolution with mapping.gate_half_res), then inserted;
 // pixels without depth where that render is empty get far Gaussians (far_field.hpp). Before
 // that, the keyframe votes on every Gaussian of the map, and those it and earlier keyframes saw
 // through are pruned (see_through.hpp, mapping.see_through_*), so that the keyframe fills what
 // they leave. A keyframe's depth may mark pixels of
 // moving objects with -1 (pipeline/moving_pixels.hpp): neither loss nor far field nor the vote
 // uses them.
+//
+// Coarse iterations (mapping.coarse_iterations = N > 0): a keyframe's first N training
+// iterations render its half-resolution view (half_res_view.hpp), made once at ingestion; the
+// later ones render the full view.
 //
 // Keyframe queue policy (see rt/spsc_ring.hpp): at most `max_pending` unprocessed keyframes are
 // kept; older extra ones are skipped and counted (skipped_keyframes). A keyframe with
@@ -33,6 +38,7 @@
 
 #include "core/config/mapping_settings.hpp"
 #include "mapping/far_field.hpp"
+#include "mapping/half_res_view.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
@@ -51,6 +57,9 @@ struct MapperKeyframe {
   std::vector<float> rgb;      ///< 3 per pixel, [0, 1]
   std::vector<float> depth_m;  ///< 1 per pixel, 0 = missing, < 0 = moving (masked)
   bool end_of_stream = false;
+  /// Filled by the Mapper at ingestion when mapping.coarse_iterations > 0.
+  HalfResView half;
+  int trained = 0;  ///< training iterations this keyframe has had (mapper thread)
 };
 using KeyframeRing = rt::SpscRing<std::unique_ptr<MapperKeyframe>>;
 
@@ -85,6 +94,8 @@ class Mapper {
   [[nodiscard]] std::uint64_t keyframes_ingested() const noexcept { return ingested_.get(); }
   [[nodiscard]] std::uint64_t skipped_keyframes() const noexcept { return skipped_.get(); }
   [[nodiscard]] std::uint64_t iterations() const noexcept { return iterations_.get(); }
+  /// Of iterations(): those rendered at half resolution (mapping.coarse_iterations).
+  [[nodiscard]] std::uint64_t coarse_iterations() const noexcept { return coarse_.get(); }
   [[nodiscard]] std::uint64_t last_trained_id() const noexcept { return last_id_.load(); }
   [[nodiscard]] float last_loss() const noexcept { return last_loss_.load(); }
   /// Duration of the last tick on the mapper's clock, ns.
@@ -135,7 +146,7 @@ class Mapper {
   SeeThrough seen_through_;
   std::vector<char> see_through_keep_;
   std::int64_t carry_ns_ = 0;  ///< <= 0: overrun still to be taken from the next ticks
-  rt::SingleWriterCounter ingested_, skipped_, iterations_, overruns_, gated_, far_,
+  rt::SingleWriterCounter ingested_, skipped_, iterations_, coarse_, overruns_, gated_, far_,
       seen_through_pruned_;
 };
 

@@ -396,6 +396,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   if (mapper) {
     r.map = std::make_shared<const mapping::GaussianMap>(mapper->mapper().map());
     r.map_iterations = static_cast<long>(mapper->mapper().iterations());
+    r.map_coarse_iterations = static_cast<long>(mapper->mapper().coarse_iterations());
     r.map_s = rt::ns_to_s(mapper->busy_ns());
     r.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
     r.map_budget_ms = cfg.mapping.budget_ms;

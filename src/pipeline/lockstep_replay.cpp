@@ -226,6 +226,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   if (mapper) {
     result.map = std::make_shared<const mapping::GaussianMap>(mapper->map());
     result.map_iterations = static_cast<long>(mapper->mapper().iterations());
+    result.map_coarse_iterations = static_cast<long>(mapper->mapper().coarse_iterations());
     result.map_budget_ms = options.map_budget_ms;
     result.map_budget_overruns = mapper->mapper().budget_overruns();
     result.map_memory = mapper->mapper().memory();

@@ -97,6 +97,7 @@ struct ReplayResult {
   /// The map after the last frame's mapper tick (null without mapping).
   std::shared_ptr<const mapping::GaussianMap> map;
   long map_iterations = 0;
+  long map_coarse_iterations = 0;             ///< of map_iterations: at half resolution
   double map_s = 0.0;                         ///< inside the mapper
   double map_budget_ms = 0.0;                 ///< the mapper's budget per frame (0 = none)
   std::uint64_t map_budget_overruns = 0;      ///< mapper ticks past their (carried) budget

@@ -131,6 +131,53 @@ TEST(MappingMapper, IngestsNewestFirstAndLowersTheLoss) {
   EXPECT_EQ(mapper.snapshot()->size(), mapper.map().size());
 }
 
+/// Mean absolute colour error of the mapper's map rendered at a keyframe's full resolution.
+double full_resolution_l1(const Mapper& mapper, const MapperKeyframe& kf) {
+  Rasterizer<float> ras;
+  RenderResult<float> r;
+  ras.forward(mapper.map(), kf.camera, r);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < r.color.size(); ++i) sum += std::abs(r.color[i] - kf.rgb[i]);
+  return sum / static_cast<double>(r.color.size());
+}
+
+TEST(MappingMapper, CoarseIterationsTrainTheFullResolutionMap) {
+  const GaussianMap truth = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
+  const std::unique_ptr<MapperKeyframe> reference = make_keyframe(truth, 1);
+  config::MappingSettings s = test_settings();
+  s.window_keyframes = 1;
+  s.random_keyframes = 0;
+  s.coarse_iterations = 40;
+  KeyframeRing ring(8);
+  Mapper mapper(s, ring, nullptr);
+  ASSERT_TRUE(ring.try_push(make_keyframe(truth, 1)));
+  mapper.tick();
+  const double inserted_l1 = full_resolution_l1(mapper, *reference);
+  for (int t = 1; t < 40; ++t) mapper.tick();
+  EXPECT_EQ(mapper.iterations(), 40u);
+  EXPECT_EQ(mapper.coarse_iterations(), 40u);  // every one of the keyframe's first 40
+  const double coarse_l1 = full_resolution_l1(mapper, *reference);
+  mapper.tick();
+  mapper.tick();
+  EXPECT_EQ(mapper.iterations(), 42u);
+  EXPECT_EQ(mapper.coarse_iterations(), 40u);  // then full resolution
+  std::printf("full-resolution L1: inserted %.4f, after 40 half-resolution iterations %.4f\n",
+              inserted_l1, coarse_l1);
+  EXPECT_LT(coarse_l1, 0.8 * inserted_l1);
+  // the half-resolution view is accounted for
+  config::MappingSettings off = s;
+  off.coarse_iterations = 0;
+  KeyframeRing ring_off(8);
+  Mapper full_only(off, ring_off, nullptr);
+  ASSERT_TRUE(ring_off.try_push(make_keyframe(truth, 1)));
+  full_only.tick();
+  EXPECT_EQ(full_only.coarse_iterations(), 0u);
+  // (beside the schedule's round, a few bytes that 42 ticks grew)
+  const std::size_t half_bytes = sizeof(float) * (3 + 1) * (kW / 2) * (kH / 2);
+  EXPECT_GE(mapper.memory().keyframes_bytes - full_only.memory().keyframes_bytes, half_bytes);
+  EXPECT_LE(mapper.memory().keyframes_bytes - full_only.memory().keyframes_bytes, half_bytes + 64);
+}
+
 TEST(MappingMapper, SkipsKeyframesBeyondThePendingBound) {
   const GaussianMap truth = test::random_gaussians<float>(20, 3);
   KeyframeRing ring(16);

@@ -21,7 +21,9 @@ struct MappingSettings {
   int threads = 2;
   double rate_hz = 10.0;
   int iterations_per_tick = 1;
-  double budget_ms = 0.0;  ///< > 0 replaces iterations_per_tick
+  int coarse_iterations = 4;   ///< mapping/half_res_view.hpp
+  bool gate_half_res = false;  ///< the insertion gate's render at half resolution
+  double budget_ms = 0.0;      ///< > 0 replaces iterations_per_tick
   int window_keyframes = 8;
   bool block_culling = true;  ///< mapping/map_blocks.hpp
   int random_keyframes = 2;
@@ -89,6 +91,15 @@ struct MappingSettings {
     v.field("rate_hz", rate_hz, {"Hz", 0.1, 1000.0, "mapper task rate"});
     v.field("iterations_per_tick", iterations_per_tick,
             {"iterations", 1, 1000, "optimisation iterations per mapper tick when budget_ms is 0"});
+    v.field("coarse_iterations", coarse_iterations,
+            {"iterations", 0, 100000,
+             "a keyframe's first N training iterations render at half resolution (a quarter of "
+             "the pixels: 2x2 colour means, the blocks' near-surface depth); later ones at full "
+             "resolution; 0 = every iteration at full resolution"});
+    v.field("gate_half_res", gate_half_res,
+            "the insertion gate (and the far field's) renders the map at half resolution from "
+            "the keyframe's camera (a quarter of the pixels; the keyframe's points are sampled "
+            "every few pixels anyway); off: at the camera's resolution");
     v.field("budget_ms", budget_ms,
             {"ms", 0.0, 10000.0,
              "mapper time per tick (insertion + iterations); an iteration starts only while time "
