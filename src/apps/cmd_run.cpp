@@ -102,6 +102,9 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   const auto ms = [](std::int64_t ns) { return io::rounded(static_cast<double>(ns) * 1e-6, 10); };
   s["mode"] = mode;
   s["real_time_factor"] = io::rounded(r.real_time_factor, 10);
+  s["real_time_factor_steady"] = r.real_time_factor_steady
+                                     ? io::Json(io::rounded(*r.real_time_factor_steady, 10))
+                                     : io::Json(nullptr);
   s["stream_s"] = io::rounded(r.stream_s, 10);
   s["tracker_cycle_ms_p50"] = ms(r.cycle_p50_ns);
   s["tracker_cycle_ms_p99"] = ms(r.cycle_p99_ns);

@@ -17,6 +17,7 @@
 #include "pipeline/live_mapper.hpp"
 #include "pipeline/live_status.hpp"
 #include "pipeline/replay_figures.hpp"
+#include "pipeline/steady_rate.hpp"
 #include "rt/clock.hpp"
 #include "rt/periodic_task.hpp"
 #include "rt/poll.hpp"
@@ -239,6 +240,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   std::int64_t next_status = t_start, next_progress = t_start;
   std::vector<float> track_ms;
   std::vector<std::int64_t> latency_ns, wait_ns;  // arrival -> pose pushed; arrival -> tick
+  std::vector<std::int64_t> done_ns;              // per pose: when it was pushed
   bool ended = false;
   PoseQualityCounts pose_quality;
   LiveStatusSources status_sources{
@@ -283,6 +285,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       out.replay.frames.push_back(r.frame);
       out.pose_flags.push_back(r.flags);
       track_ms.push_back(static_cast<float>(rt::ns_to_ms(r.track_ns)));
+      done_ns.push_back(r.done_mono_ns);
       if (r.arrival_ns > 0) {
         latency_ns.push_back(r.done_mono_ns - r.arrival_ns);
         if (r.wake_ns > 0) wait_ns.push_back(r.wake_ns - r.arrival_ns);
@@ -424,6 +427,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   if (r.frames.size() >= 2) {
     out.stream_s = rt::ns_to_s(r.frames.back().t_ns - r.frames.front().t_ns);
     out.real_time_factor = r.wall_s > 0 ? out.stream_s / r.wall_s : 0;
+    std::vector<std::int64_t> stream_ns(r.frames.size());
+    for (std::size_t i = 0; i < r.frames.size(); ++i) stream_ns[i] = r.frames[i].t_ns;
+    out.real_time_factor_steady = steady_real_time_factor(stream_ns, done_ns);
   }
   return out;
 }

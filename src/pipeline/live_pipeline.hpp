@@ -116,7 +116,10 @@ struct LiveResult {
   std::uint64_t drops = 0;
   double stream_s = 0;          ///< first to last frame stamp
   double real_time_factor = 0;  ///< stream_s / wall time from the first frame
-  std::string memory_lock;      ///< "applied", "refused", "not requested"
+  /// The same between the frames at 10 % and 90 % of the run (steady_rate.hpp); unset with
+  /// fewer than 3 frames.
+  std::optional<double> real_time_factor_steady;
+  std::string memory_lock;  ///< "applied", "refused", "not requested"
   /// The tracker's worker team member 1 as it ran (unset: the odometry never started, or a
   /// team of one): its spec after rt: and what the OS applied.
   std::optional<rt::ThreadSpec> tracker_worker;

@@ -17,7 +17,8 @@ TEST(HalfResView, CameraPutsAPointAtTheCentreOfItsFullResolutionBlock) {
   const RenderCamera half = half_res_camera(full);
   EXPECT_EQ(half.width_px, 32);
   EXPECT_EQ(half.height_px, 24);
-  for (const Eigen::Vector3d& p_c : {Eigen::Vector3d(0.1, -0.2, 2.0), Eigen::Vector3d(-0.3, 0.25, 3.5)}) {
+  for (const Eigen::Vector3d& p_c :
+       {Eigen::Vector3d(0.1, -0.2, 2.0), Eigen::Vector3d(-0.3, 0.25, 3.5)}) {
     const double u = full.fx_px * p_c.x() / p_c.z() + full.cx_px;
     const double v = full.fy_px * p_c.y() / p_c.z() + full.cy_px;
     const double uh = half.fx_px * p_c.x() / p_c.z() + half.cx_px;
@@ -76,7 +77,7 @@ TEST(HalfResView, ColourIsTheBlockMeanDepthTheNearSurfaceMasksPropagate) {
   EXPECT_FLOAT_EQ(v.rgb[0], 0.25f * (0.0f + 0.1f + 0.5f + 0.6f));
   EXPECT_FLOAT_EQ(v.rgb[3], 0.25f * (0.2f + 0.3f + 0.7f + 0.8f));
   EXPECT_FLOAT_EQ(v.depth_m[0], (2.0f + 2.04f + 2.02f) / 3.0f);  // 3.0 is another surface
-  EXPECT_FLOAT_EQ(v.depth_m[1], 1.0f);                            // only the valid pixel
+  EXPECT_FLOAT_EQ(v.depth_m[1], 1.0f);                           // only the valid pixel
   std::vector<float> none(10, 0.0f);
   make_half_res_view(full, rgb.data(), none.data(), v);
   EXPECT_EQ(v.depth_m[0], 0.0f);

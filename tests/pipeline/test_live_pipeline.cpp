@@ -115,6 +115,10 @@ TEST_F(LivePipeline, RealTimeKeepsOrderAndCountsSkips) {
     ASSERT_GT(r.replay.frames[i].t_ns, r.replay.frames[i - 1].t_ns);
   // Paced by the stamps: it cannot run faster than the sequence.
   EXPECT_LE(r.real_time_factor, 1.05);
+  // the steady part is paced by the stamps too, and measured (not the whole run's figure)
+  ASSERT_TRUE(r.real_time_factor_steady);
+  EXPECT_LE(*r.real_time_factor_steady, 1.05);
+  EXPECT_GT(*r.real_time_factor_steady, 0.0);
   EXPECT_GT(r.tracker_cycles, 0u);
 }
 
