@@ -91,6 +91,28 @@ TEST(MappingMapper, FillsWhatHasNoDepthWithFarGaussiansOnce) {
   EXPECT_LE(mapper.far_gaussians(), far + far / 20);
 }
 
+TEST(MappingMapper, GateAtHalfResolutionStillGatesPointsAndFarField) {
+  // mapping.gate_half_res: the gate's render (and the far field's) is at half resolution; a
+  // revisit of the same view must still add (almost) nothing, points or far Gaussians
+  const GaussianMap truth = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
+  config::MappingSettings s = test_settings();
+  s.far_field.depth_m = 15.0;
+  s.gate_half_res = true;
+  KeyframeRing ring(8);
+  Mapper mapper(s, ring, nullptr);
+  ASSERT_TRUE(ring.try_push(make_keyframe(truth, 1)));
+  mapper.tick();
+  const std::size_t size = mapper.map().size(), far = mapper.far_gaussians();
+  ASSERT_GT(far, 0u);
+  ASSERT_TRUE(ring.try_push(make_keyframe(truth, 1)));
+  mapper.tick();
+  std::printf("gate at half resolution: %zu Gaussians (%zu far), revisit +%zu (+%zu far)\n", size,
+              far, mapper.map().size() - size,
+              static_cast<std::size_t>(mapper.far_gaussians() - far));
+  EXPECT_LE(mapper.far_gaussians(), far + far / 20);
+  EXPECT_LE(mapper.map().size(), size + size / 10);
+}
+
 TEST(MappingMapper, IngestsNewestFirstAndLowersTheLoss) {
   const GaussianMap truth = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
   KeyframeRing ring(8);
