@@ -56,6 +56,17 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   s["frames_without_depth"] = r.frames_without_depth;
   s["frames_not_tracked_by_run"] = r.frames_not_tracked_by_run;
   s["input_damage"] = io::mcap::damage_object(r.damage, used_of(r));
+  if (r.loop) {
+    const tracking::LoopClosureStats& l = *r.loop;
+    s["loop_closure"] = {{"keyframes", l.keyframes},
+                         {"anchors", l.anchors},
+                         {"attempts", l.attempts},
+                         {"closures", l.closures},
+                         {"rejected", l.rejected},
+                         {"graph_iterations", l.last_optimization.iterations},
+                         {"graph_initial_cost", num(l.last_optimization.initial_cost)},
+                         {"graph_final_cost", num(l.last_optimization.final_cost)}};
+  }
   if (r.map) {
     s["gaussians"] = r.map->size();
     s["map_iterations"] = r.map_iterations;

@@ -27,6 +27,9 @@ namespace vigs::pipeline {
 struct KeyframeSlot {
   tracking::Keyframe keyframe;
   rt::FrameHandle frame;  ///< the keyframe's image, retained for the mapper
+  /// The tracker restarted its map at this keyframe: no odometry joins it to the previous one
+  /// (the loop closer's graph, tracking/loop_closure.hpp).
+  bool after_restart = false;
 };
 
 class KeyframeHandoff {

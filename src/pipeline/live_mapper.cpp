@@ -12,7 +12,8 @@ namespace vigs::pipeline {
 
 LiveMapper::LiveMapper(const config::MappingSettings& s, const PinholeCamera& camera,
                        float depth_scale_m, rt::FramePool& pool, KeyframeHandoff& handoff,
-                       const rt::ThreadSpec& worker_spec, int tracker_pixel_stride)
+                       const rt::ThreadSpec& worker_spec, int tracker_pixel_stride,
+                       const config::TrackingSettings* loops)
     : camera_(camera),
       depth_scale_m_(depth_scale_m),
       moving_mask_(s.moving_mask),
@@ -23,7 +24,13 @@ LiveMapper::LiveMapper(const config::MappingSettings& s, const PinholeCamera& ca
       team_(s.threads, worker_spec),
       ring_(2 * handoff.capacity()),
       // max_pending = the handoff's slots: the bound is the handoff's, nothing more is skipped.
-      mapper_(std::make_unique<mapping::Mapper>(s, ring_, &team_, handoff.capacity())) {}
+      mapper_(std::make_unique<mapping::Mapper>(s, ring_, &team_, handoff.capacity())) {
+  if (loops != nullptr && loops->loop.enabled) {
+    config::GicpSetting gicp = loops->gicp;
+    gicp.num_threads = 1;  // on this thread only
+    loops_ = std::make_unique<tracking::LoopCloser>(loops->loop, gicp);
+  }
+}
 
 void LiveMapper::tick() {
   const std::int64_t t0 = rt::monotonic_ns();
@@ -50,6 +57,7 @@ void LiveMapper::tick() {
     m->rgb.resize(rgb.data.size());
     for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;
     m->depth_m = std::move(depth_m.data);
+    if (loops_) loops_->add_keyframe(slot.keyframe, slot.after_restart);
     pool_.release(slot.frame);
     slot.frame = rt::FrameHandle{};
     handoff_.give_back(index);

@@ -13,11 +13,13 @@
 #include <memory>
 
 #include "core/config/mapping_settings.hpp"
+#include "core/config/tracking_settings.hpp"
 #include "core/types/pinhole_camera.hpp"
 #include "mapping/mapper.hpp"
 #include "pipeline/keyframe_handoff.hpp"
 #include "rt/frame_pool.hpp"
 #include "rt/worker_team.hpp"
+#include "tracking/loop_closure.hpp"
 
 namespace vigs::pipeline {
 
@@ -25,9 +27,11 @@ class LiveMapper {
  public:
   /// `worker_spec`: the thread table's mapper_w1 with the rt policy applied.
   /// `tracker_pixel_stride`: the stride the keyframes' points were sampled at.
+  /// `loops` (nullable): tracking.loop_closure on; the keyframes also go to a LoopCloser on
+  /// this thread (one GICP thread, this one: it starts no thread of its own).
   LiveMapper(const config::MappingSettings& s, const PinholeCamera& camera, float depth_scale_m,
              rt::FramePool& pool, KeyframeHandoff& handoff, const rt::ThreadSpec& worker_spec,
-             int tracker_pixel_stride);
+             int tracker_pixel_stride, const config::TrackingSettings* loops = nullptr);
 
   /// The task body (mapper thread only).
   void tick();
@@ -39,6 +43,8 @@ class LiveMapper {
   [[nodiscard]] std::int64_t busy_ns() const noexcept { return busy_ns_.load(); }
   /// Gaussians in the map after the last tick (any thread).
   [[nodiscard]] std::size_t gaussians() const noexcept { return gaussians_.load(); }
+  /// The loop closer (null when off): mapper thread, or any thread once the task stopped.
+  [[nodiscard]] tracking::LoopCloser* loop_closer() { return loops_.get(); }
 
  private:
   PinholeCamera camera_;
@@ -51,6 +57,7 @@ class LiveMapper {
   rt::WorkerTeam team_;
   mapping::KeyframeRing ring_;
   std::unique_ptr<mapping::Mapper> mapper_;
+  std::unique_ptr<tracking::LoopCloser> loops_;
   std::uint64_t next_id_ = 0;
   std::atomic<bool> ended_{false};
   std::atomic<std::int64_t> busy_ns_{0};

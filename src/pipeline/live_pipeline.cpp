@@ -201,9 +201,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   std::unique_ptr<LiveMapper> mapper;
   std::unique_ptr<rt::PeriodicTask> mapper_task;
   if (o.mapping) {
-    mapper = std::make_unique<LiveMapper>(cfg.mapping, camera, depth_scale_m, pool, *handoff,
-                                          table_spec("mapper_w1", rtc),
-                                          cfg.tracking.preprocess.depth.pixel_stride);
+    mapper = std::make_unique<LiveMapper>(
+        cfg.mapping, camera, depth_scale_m, pool, *handoff, table_spec("mapper_w1", rtc),
+        cfg.tracking.preprocess.depth.pixel_stride, &cfg.tracking);
     rt::ThreadSpec mapper_spec = table_spec("mapper", rtc);
     mapper_spec.period_ns = period_ns(cfg.mapping.rate_hz);
     mapper_task = std::make_unique<rt::PeriodicTask>(mapper_spec, [&m = *mapper] { m.tick(); });
@@ -389,6 +389,17 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   if (recording) r.imu_samples = out.source.imu_samples;
   if (camera_driver) out.camera_driver = camera_driver->counters();
   if (imu_driver) out.imu_driver = imu_driver->faults();
+  if (tracking::LoopCloser* lc = mapper ? mapper->loop_closer() : nullptr) {
+    // The trajectory as the loop closer corrects it (the poses published live stay as
+    // tracked; trajectory_odometry.tum keeps them), in the tracker's clock, as its keyframes.
+    lc->optimize();
+    r.loop = lc->stats();
+    r.frames_odometry.reserve(r.frames.size());
+    for (TrackedFrame& f : r.frames) {
+      r.frames_odometry.push_back(f.T_w_c);
+      f.T_w_c = lc->corrected(f.t_ns, f.T_w_c);
+    }
+  }
   if (replay) {
     // Back to the recording's clock (driver_replay.hpp): the RESULTS_DIR is evaluated in it.
     out.feeder = replay->counters();

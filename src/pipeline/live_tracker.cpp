@@ -259,6 +259,7 @@ void LiveTracker::hand_keyframe(const TrackedFrame& f, rt::FrameHandle h) noexce
              "the mapper (keyframe slots)")) {
       slot->keyframe = kf;  // reuses the slot's capacity
       slot->frame = own;    // the retain above, or the one taken when the keyframe was held
+      slot->after_restart = f.reinitialized;
       r_.keyframes->publish(slot);
       keyframes_.add();
     } else {  // no slot free (or, never expected, not the keyframe's frame): drop, counted

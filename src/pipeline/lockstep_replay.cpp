@@ -115,6 +115,8 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
 
   std::optional<Odometry> odometry;
   std::optional<LockstepMapper> mapper;
+  std::optional<tracking::LoopCloser> loops;
+  if (cfg.tracking.loop.enabled) loops.emplace(cfg.tracking.loop, cfg.tracking.gicp);
   ImuFeeder feeder(motion.imu);
   std::int64_t last_t_ns = 0;
   // as_run: the frames the recording's run tracked and the newest IMU sample each one used.
@@ -195,6 +197,9 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
       mapper->step();
       result.map_s += seconds_since(t_map);
     }
+    if (loops && f.keyframe) {
+      loops->add_keyframe(odometry->tracker().last_keyframe(), f.reinitialized);
+    }
     result.frames.push_back(f);
     if (on_frame) on_frame(f);
     if (options.max_frames > 0 &&
@@ -222,6 +227,15 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   if (!odometry)
     throw RecordingError(path + ": no RGB-D frames on " + std::string(io::topics::kRgb.name));
   result.counters = odometry->counters();
+  if (loops) {
+    loops->optimize();
+    result.loop = loops->stats();
+    result.frames_odometry.reserve(result.frames.size());
+    for (TrackedFrame& f : result.frames) {
+      result.frames_odometry.push_back(f.T_w_c);
+      f.T_w_c = loops->corrected(f.t_ns, f.T_w_c);
+    }
+  }
   result.imu_samples_fed = feeder.fed();
   if (mapper) {
     result.map = std::make_shared<const mapping::GaussianMap>(mapper->map());

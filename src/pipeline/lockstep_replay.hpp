@@ -27,6 +27,7 @@
 #include "mapping/mapper_memory.hpp"
 #include "pipeline/odometry.hpp"
 #include "pipeline/recorded_motion.hpp"
+#include "tracking/loop_closure.hpp"
 
 namespace vigs::pipeline {
 
@@ -105,6 +106,10 @@ struct ReplayResult {
   mapping::MapperMemory map_memory;           ///< the mapper's memory by owner at the end
   std::uint64_t map_gated_points = 0;         ///< keyframe points the map already rendered
   std::uint64_t map_seen_through_pruned = 0;  ///< Gaussians later keyframes saw through
+  /// tracking.loop_closure: `frames` hold the loop-corrected poses, `frames_odometry` the
+  /// poses as the odometry tracked them (same order); `loop` what the loop closer did.
+  std::optional<tracking::LoopClosureStats> loop;
+  std::vector<geometry::Pose> frames_odometry;
 };
 
 /// Replays `path`. Throws RecordingError naming the file on a damaged or unusable recording

@@ -4,6 +4,9 @@
 //
 //   trajectory.tum  required. Estimated camera poses T_w_c, one TUM line per frame
 //                   (`t tx ty tz qx qy qz qw`, seconds and metres, Hamilton quaternion).
+//   trajectory_odometry.tum  optional (runs with tracking.loop_closure). The poses as the
+//                   odometry tracked them, before the loop closer's correction, which
+//                   trajectory.tum then holds; `vigs eval run --estimate` compares either.
 //   map.ply         optional. The Gaussian map in the standard 3DGS PLY layout
 //                   (mapping/ply_io.hpp), in the same world frame as trajectory.tum.
 //                   Without it there are no PSNR/SSIM, rendered views or Gaussian count.
@@ -24,6 +27,7 @@
 namespace vigs::pipeline {
 
 inline constexpr const char* kTrajectoryFile = "trajectory.tum";
+inline constexpr const char* kOdometryTrajectoryFile = "trajectory_odometry.tum";
 inline constexpr const char* kMapFile = "map.ply";
 inline constexpr const char* kKeyframesFile = "keyframes.txt";
 inline constexpr const char* kStatsFile = "stats.json";

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <system_error>
 #include <vector>
 
@@ -44,6 +45,18 @@ void write_results_files(const std::filesystem::path& root, const ReplayResult& 
     if (f.keyframe) keyframe_t_s.push_back(p.t_s);
   }
   io::write_tum_trajectory((root / pipeline::kTrajectoryFile).string(), poses);
+  if (!r.frames_odometry.empty()) {
+    if (r.frames_odometry.size() != r.frames.size()) {
+      throw std::runtime_error("results: " + std::to_string(r.frames_odometry.size()) +
+                               " odometry poses for " + std::to_string(r.frames.size()) +
+                               " frames");
+    }
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      poses[i].p_w_m = r.frames_odometry[i].translation();
+      poses[i].q_w = Eigen::Quaterniond(r.frames_odometry[i].linear()).normalized();
+    }
+    io::write_tum_trajectory((root / pipeline::kOdometryTrajectoryFile).string(), poses);
+  }
 
   const auto write_text = [](const std::string& path, const std::string& text) {
     io::write_file_atomically(path, [&](std::FILE* f) {

@@ -13,6 +13,7 @@ namespace vigs::config {
 /// components' parts as they are (tracking/settings_from_config.hpp).
 struct TrackingSettings : TrackerSetting {
   std::string fusion = "paper";  ///< pipeline/odometry.hpp
+  LoopClosureSetting loop;       ///< tracking/loop_closure.hpp
 
   void visit(Visitor& v) {
     v.field("pixel_stride", preprocess.depth.pixel_stride,
@@ -104,6 +105,25 @@ struct TrackingSettings : TrackerSetting {
             {"m", 0.0, 100.0, "diverged when GICP moves the guess farther than this"});
     v.field("max_correction_deg", max_correction_deg,
             {"deg", 0.0, 180.0, "diverged when GICP turns the guess more than this"});
+    v.field("loop_closure", loop.enabled,
+            "close loops: keyframes that return to an old place are registered to it and the "
+            "run's trajectory is corrected by a keyframe pose graph (trajectory.tum; the live "
+            "poses stay as tracked)");
+    v.field("loop_min_age_s", loop.min_age_s,
+            {"s", 0.0, 1e6, "a keyframe at least this much older is a loop candidate"});
+    v.field("loop_search_radius_m", loop.search_radius_m,
+            {"m", 0.01, 100.0, "loop candidates lie within this of the keyframe's estimate"});
+    v.field("loop_max_view_angle_deg", loop.max_view_angle_deg,
+            {"deg", 0.0, 180.0, "and look within this angle of its optical axis"});
+    v.field("loop_anchor_spacing_m", loop.anchor_spacing_m,
+            {"m", 0.0, 100.0,
+             "a keyframe's cloud is kept as a loop candidate this far from the last one kept"});
+    v.field("loop_min_inlier_ratio", loop.min_inlier_ratio,
+            {"-", 0.0, 1.0, "a loop is accepted when GICP matches this share of the points"});
+    v.field("loop_cloud_voxel_m", loop.cloud_voxel_m,
+            {"m", 0.01, 1.0,
+             "loop clouds keep one static keyframe point per voxel this wide (verification "
+             "matches within 1.5 voxels)"});
     v.require(preprocess.depth.near_m < preprocess.depth.far_m, "far_m",
               "far_m must exceed near_m");
     v.require(local_map.voxel_m >= gicp.max_correspondence_distance_m, "local_map_voxel_m",

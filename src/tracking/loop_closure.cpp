@@ -1,0 +1,189 @@
+#include "tracking/loop_closure.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+#include "core/geometry/so3.hpp"
+#include "tracking/gaussian_cloud.hpp"
+
+namespace vigs::tracking {
+namespace {
+
+/// Drift model of an odometry edge over a translation of d metres: the tracker's relative
+/// error per metre of path is 1-3 cm and 0.06-0.08 degrees (RPE per metre, BENCHMARKS.md,
+/// Accuracy at the paper's scale), a random walk, so variances grow with d; a floor for a
+/// keyframe made by rotation alone.
+Matrix6d odometry_information(double d_m) {
+  const double var_rot = 1e-6 * d_m + 0.25e-6;  // (1 mrad)^2 per metre, (0.5 mrad)^2 floor
+  const double var_pos = 9e-4 * d_m + 1e-5;     // (3 cm)^2 per metre, (3 mm)^2 floor
+  Vector6d w;
+  w << 1.0 / var_rot, 1.0 / var_rot, 1.0 / var_rot, 1.0 / var_pos, 1.0 / var_pos, 1.0 / var_pos;
+  return w.asDiagonal();
+}
+
+/// Across a tracker restart nothing is known of the relative pose.
+Matrix6d loose_information() {
+  return (Vector6d::Constant(1e-6)).asDiagonal();
+}
+
+double view_angle_rad(const geometry::Pose& a, const geometry::Pose& b) {
+  const double c = a.linear().col(2).dot(b.linear().col(2));
+  return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+/// The keyframe's static points thinned to one per voxel of `voxel_m` (the first in the
+/// cloud's order), so that a kept cloud's density does not depend on the distance it was seen
+/// from. Only what GICP reads (points and regularised covariances, 48 B a point; the raw
+/// covariances and colours stay empty). A hash set of voxel keys: allocation is fine off the
+/// real-time threads.
+void voxel_static_copy(const Keyframe& kf, double voxel_m, GaussianCloud& out) {
+  out.clear();
+  const GaussianCloud& c = kf.cloud_c;
+  const bool flags = kf.moving.size() == c.size();
+  const double inv = 1.0 / voxel_m;
+  std::unordered_set<std::int64_t> seen;
+  seen.reserve(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (flags && kf.moving[i] != 0) continue;
+    const Eigen::Vector3f& p = c.points_m[i];
+    const auto key = [&](float v) {
+      return static_cast<std::int64_t>(std::floor(static_cast<double>(v) * inv)) & 0x1fffff;
+    };
+    if (!seen.insert(key(p.x()) | (key(p.y()) << 21) | (key(p.z()) << 42)).second) continue;
+    out.points_m.push_back(p);
+    out.cov_m2.push_back(c.cov_m2[i]);
+  }
+}
+
+}  // namespace
+
+LoopCloser::LoopCloser(const Setting& setting, const config::GicpSetting& gicp)
+    : setting_(setting),
+      gicp_setting_(gicp),
+      team_(std::max(1, gicp.num_threads), rt::ThreadSpec{.name = "loop_w"}) {
+  stages_.reserve(3);
+  const double fine = std::max(gicp.max_correspondence_distance_m, 1.5 * setting.cloud_voxel_m);
+  for (const double dist : {0.4, 0.2, fine}) {
+    config::GicpSetting s = gicp;
+    s.max_correspondence_distance_m = std::max(dist, fine);
+    stages_.push_back(std::make_unique<Gicp>(s, &team_));
+  }
+}
+
+const LoopCloser::Anchor* LoopCloser::candidate(std::int64_t t_ns,
+                                                const geometry::Pose& T_w_c) const {
+  const auto min_age_ns = static_cast<std::int64_t>(setting_.min_age_s * 1e9);
+  const double max_angle = setting_.max_view_angle_deg * M_PI / 180.0;
+  const Anchor* best = nullptr;
+  double best_d = setting_.search_radius_m;
+  for (const Anchor& a : anchors_) {
+    if (a.t_ns > t_ns - min_age_ns) break;  // anchors are in time order
+    const geometry::Pose& T_w_a = graph_.pose(a.node);
+    const double d = (T_w_a.translation() - T_w_c.translation()).norm();
+    if (d >= best_d || view_angle_rad(T_w_a, T_w_c) > max_angle) continue;
+    best = &a;
+    best_d = d;
+  }
+  return best;
+}
+
+std::optional<PoseGraphEdge> LoopCloser::verify(const Anchor& anchor, int node,
+                                                const GaussianCloud& source_c,
+                                                const geometry::Pose& T_w_c) {
+  if (anchor.cloud_c.size() < 100 || source_c.size() < 100) return std::nullopt;
+  tree_.build(anchor.cloud_c.points_m);
+  const CloudTarget target{&anchor.cloud_c, &tree_, nullptr};
+  const geometry::Pose T_a_k_guess = graph_.pose(anchor.node).inverse() * T_w_c;
+  geometry::Pose T_a_k = T_a_k_guess;
+  GicpResult r;
+  for (const auto& stage : stages_) {
+    r = stage->align(target, source_c, T_a_k);
+    if (r.verdict == GicpVerdict::diverged) return std::nullopt;
+    T_a_k = r.T_t_s;
+  }
+  const double moved = (T_a_k.translation() - T_a_k_guess.translation()).norm();
+  // A degenerate verdict is kept: the Hessian carries which directions are weak.
+  const bool ok = r.verdict != GicpVerdict::diverged && r.information.allFinite() &&
+                  r.inlier_ratio >= setting_.min_inlier_ratio && moved < setting_.search_radius_m &&
+                  T_a_k.matrix().allFinite();
+  if (!ok) return std::nullopt;
+  PoseGraphEdge e;
+  e.i = anchor.node;
+  e.j = node;
+  e.T_i_j = T_a_k;
+  // GICP's information is metric as the tracker takes it (gicp_variance_scale 1): the
+  // directions the two views leave weak (a corridor's axis) stay weak in the graph.
+  e.information = information_of_left_increment(r.information, T_a_k);
+  return e;
+}
+
+bool LoopCloser::add_keyframe(const Keyframe& kf, bool after_restart) {
+  ++stats_.keyframes;
+  // The newest node's solved pose carries the corrections found so far; the keyframe is
+  // placed relative to it by its odometry, so candidates are searched where the corrected
+  // trajectory puts it.
+  geometry::Pose T_w_c_graph = kf.T_w_c;
+  if (!node_estimate_.empty()) {
+    const geometry::Pose T_prev_k = node_estimate_.back().inverse() * kf.T_w_c;
+    T_w_c_graph = graph_.pose(static_cast<int>(graph_.num_nodes()) - 1) * T_prev_k;
+  }
+  const int node = graph_.add_node(T_w_c_graph);
+  node_t_ns_.push_back(kf.t_ns);
+  node_estimate_.push_back(kf.T_w_c);
+  if (node > 0) {
+    PoseGraphEdge e;
+    e.i = node - 1;
+    e.j = node;
+    e.T_i_j = node_estimate_[static_cast<std::size_t>(node - 1)].inverse() * kf.T_w_c;
+    e.information =
+        after_restart ? loose_information() : odometry_information(e.T_i_j.translation().norm());
+    graph_.add_edge(e);
+  }
+  GaussianCloud sparse;
+  voxel_static_copy(kf, setting_.cloud_voxel_m, sparse);
+
+  bool closed = false;
+  if (const Anchor* a = candidate(kf.t_ns, T_w_c_graph)) {
+    ++stats_.attempts;
+    if (const auto edge = verify(*a, node, sparse, T_w_c_graph)) {
+      graph_.add_edge(*edge);
+      ++stats_.closures;
+      has_loop_ = true;
+      closed = true;
+      optimize();
+    } else {
+      ++stats_.rejected;
+    }
+  }
+
+  const bool far_from_last =
+      anchors_.empty() ||
+      (graph_.pose(anchors_.back().node).translation() - graph_.pose(node).translation()).norm() >=
+          setting_.anchor_spacing_m ||
+      view_angle_rad(graph_.pose(anchors_.back().node), graph_.pose(node)) > M_PI / 6.0;
+  if (far_from_last) {
+    anchors_.push_back(Anchor{node, kf.t_ns, std::move(sparse)});
+    ++stats_.anchors;
+  }
+  return closed;
+}
+
+const PoseGraphResult& LoopCloser::optimize() {
+  if (has_loop_) stats_.last_optimization = graph_.optimize();
+  return stats_.last_optimization;
+}
+
+geometry::Pose LoopCloser::corrected(std::int64_t t_ns, const geometry::Pose& T_w_c) const {
+  const auto it = std::upper_bound(node_t_ns_.begin(), node_t_ns_.end(), t_ns);
+  if (it == node_t_ns_.begin()) return T_w_c;
+  const auto k = static_cast<std::size_t>(it - node_t_ns_.begin()) - 1;
+  const geometry::Pose T_w_c_new =
+      graph_.pose(static_cast<int>(k)) * node_estimate_[k].inverse() * T_w_c;
+  geometry::Pose out = geometry::Pose::Identity();
+  out.linear() = geometry::normalize_rotation<double>(Eigen::Matrix3d(T_w_c_new.linear()));
+  out.translation() = T_w_c_new.translation();
+  return out;
+}
+
+}  // namespace vigs::tracking

@@ -1,0 +1,101 @@
+#pragma once
+// Loop closure over the tracker's keyframes: the odometry's drift (about 1 degree of yaw and
+// tens of centimetres over a 175 m office loop, BENCHMARKS.md) is bounded where the camera
+// comes back to a place it has seen, as every RGB-D SLAM system with a back end does (the
+// paper's VIGS has none).
+//
+// - Every keyframe becomes a node of a pose graph (pose_graph.hpp), joined to the previous one
+//   by its odometry: the relative pose of the two estimates, with a drift model of the
+//   tracker's per-metre error (loop_closure.cpp). Across a tracker restart the edge is loose.
+// - Anchors: a keyframe at least anchor_spacing_m from the last anchor (or turned 30 degrees)
+//   keeps a sparse copy of its static points (every cloud_stride-th point the moving test did
+//   not flag), in its camera frame.
+// - Detection is geometric: the nearest anchor at least min_age_s older, within
+//   search_radius_m of the keyframe's estimate and with optical axes within
+//   max_view_angle_deg. The drift it must bridge is decimetres, so the estimate is the prior
+//   (no appearance-based place recognition).
+// - Verification: GICP of the keyframe's sparse points to the anchor's, from the estimates'
+//   relative pose, with the correspondence distance shrinking 0.4 -> 0.15 m -> the tracker's;
+//   accepted when it converges, is not degenerate, matches min_inlier_ratio of the points and
+//   moved the guess less than search_radius_m. The result is a loop edge.
+// - optimize() solves the graph; corrected(t_ns, T_w_c) moves a pose estimated at t_ns with
+//   the correction of the newest keyframe at or before t_ns (T_kf_opt T_kf_est^-1 T_w_c).
+//
+// Memory: an anchor keeps about 7,000 points of 48 B (0.3 MB) at 720x480; one a metre of new
+// path, so about 50 MB for the 175 m office loop, growing with the path (no bound yet).
+//
+// Not on a real-time thread: add_keyframe() allocates (anchor clouds, the kd-tree) and GICP
+// runs on its own team. Lockstep replay calls it in line; the result is deterministic.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/config/tracking_components.hpp"
+#include "rt/worker_team.hpp"
+#include "tracking/gicp.hpp"
+#include "tracking/kdtree.hpp"
+#include "tracking/pose_graph.hpp"
+
+namespace vigs::tracking {
+
+struct Keyframe;
+
+struct LoopClosureStats {
+  std::int64_t keyframes = 0;
+  std::int64_t anchors = 0;
+  std::int64_t attempts = 0;  ///< keyframes with a candidate, registered by GICP
+  std::int64_t closures = 0;  ///< verified: loop edges
+  std::int64_t rejected = 0;  ///< attempts GICP did not verify
+  PoseGraphResult last_optimization;
+};
+
+class LoopCloser {
+ public:
+  using Setting = config::LoopClosureSetting;
+
+  /// `gicp`: the tracker's GICP setting (kernel, thresholds, threads; its correspondence
+  /// distance is the last stage of verification).
+  LoopCloser(const Setting& setting, const config::GicpSetting& gicp);
+
+  /// A keyframe as the tracker made it (T_w_c is its estimate then; keyframes come in time
+  /// order). `after_restart`: the tracker restarted its map since the previous keyframe, so
+  /// there is no odometry between them. Returns true when it closed a loop.
+  bool add_keyframe(const Keyframe& kf, bool after_restart = false);
+
+  /// Solves the pose graph with every loop edge so far (no-op without one).
+  const PoseGraphResult& optimize();
+
+  /// A pose the odometry estimated at t_ns, corrected as its reference keyframe was (the
+  /// newest at or before t_ns); unchanged before the first keyframe.
+  [[nodiscard]] geometry::Pose corrected(std::int64_t t_ns, const geometry::Pose& T_w_c) const;
+
+  [[nodiscard]] const LoopClosureStats& stats() const { return stats_; }
+  [[nodiscard]] const PoseGraph& graph() const { return graph_; }
+
+ private:
+  struct Anchor {
+    int node = 0;
+    std::int64_t t_ns = 0;
+    GaussianCloud cloud_c;
+  };
+  [[nodiscard]] const Anchor* candidate(std::int64_t t_ns, const geometry::Pose& T_w_c) const;
+  /// Registers `source_c` (at T_w_c) to the anchor; the loop edge when verified.
+  std::optional<PoseGraphEdge> verify(const Anchor& anchor, int node, const GaussianCloud& source_c,
+                                      const geometry::Pose& T_w_c);
+
+  Setting setting_;
+  config::GicpSetting gicp_setting_;
+  rt::WorkerTeam team_;
+  /// Verification stages, correspondence distance 0.4 m, 0.15 m, then the tracker's.
+  std::vector<std::unique_ptr<Gicp>> stages_;
+  KdTree tree_;
+  PoseGraph graph_;
+  std::vector<std::int64_t> node_t_ns_;
+  std::vector<geometry::Pose> node_estimate_;  ///< the tracker's poses (graph_ holds the solved)
+  std::vector<Anchor> anchors_;
+  LoopClosureStats stats_;
+  bool has_loop_ = false;
+};
+
+}  // namespace vigs::tracking

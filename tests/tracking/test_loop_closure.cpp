@@ -1,0 +1,152 @@
+// The loop closer on keyframes of a synthetic room: a drifted return to the first keyframe's
+// place is registered, verified and corrected; a place that does not match is refused; and
+// nothing is corrected while no old keyframe is near.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "rt/worker_team.hpp"
+#include "synthetic_scene.hpp"
+#include "tracking/covariance.hpp"
+#include "tracking/gaussian_cloud.hpp"
+#include "tracking/kdtree.hpp"
+#include "tracking/loop_closure.hpp"
+
+namespace vigs::tracking {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr std::int64_t kSecond = 1'000'000'000;
+using test::plane_scene;
+using test::room_scene;
+
+/// The world points a camera at T_w_c sees in front of it, in its frame, with covariances.
+Keyframe keyframe_of(const std::vector<Eigen::Vector3f>& world, const geometry::Pose& T_w_c_true,
+                     const geometry::Pose& T_w_c_estimate, std::int64_t t_ns) {
+  Keyframe kf;
+  kf.t_ns = t_ns;
+  kf.T_w_c = T_w_c_estimate;
+  const geometry::Pose T_c_w = T_w_c_true.inverse();
+  for (const Eigen::Vector3f& p : world) {
+    const Eigen::Vector3f q = (T_c_w * p.cast<double>()).cast<float>();
+    if (q.z() > 0.5f) kf.cloud_c.points_m.push_back(q);
+  }
+  kf.cloud_c.colors_rgb.assign(kf.cloud_c.size(), {0, 0, 0});
+  KdTree tree;
+  tree.build(kf.cloud_c.points_m);
+  rt::WorkerTeam team(2);
+  estimate_covariances(tree, CovarianceSetting{}, team, kf.cloud_c);
+  kf.moving.assign(kf.cloud_c.size(), 0);
+  return kf;
+}
+
+config::GicpSetting tracker_gicp() {
+  config::GicpSetting g;
+  g.max_correspondence_distance_m = 0.05;
+  g.kernel = config::RobustKernel::geman_mcclure;
+  return g;
+}
+
+LoopCloser::Setting setting() {
+  LoopCloser::Setting s;
+  s.enabled = true;
+  s.min_age_s = 5.0;
+  s.anchor_spacing_m = 0.2;
+  return s;
+}
+
+/// Out 1.2 m sideways and back, one keyframe a second; the estimate drifts 1 cm and 0.4
+/// degrees of yaw a keyframe.
+struct Route {
+  std::vector<geometry::Pose> truth, estimate;
+};
+Route out_and_back() {
+  Route r;
+  geometry::Pose est = geometry::Pose::Identity();
+  const int n = 12;
+  for (int k = 0; k <= n; ++k) {
+    const double x = 1.2 * (k <= n / 2 ? k : n - k) / (n / 2);
+    r.truth.push_back(geometry::make_pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(x, 0, 0)));
+    if (k > 0) {
+      const geometry::Pose step = r.truth[k - 1].inverse() * r.truth[k];
+      est = est * step *
+            geometry::make_pose(Eigen::Vector3d(0, 0.4 * kDeg, 0), Eigen::Vector3d(0.01, 0, 0));
+    }
+    r.estimate.push_back(est);
+  }
+  return r;
+}
+
+TEST(LoopCloser, ClosesADriftedReturnAndCorrectsTheTrajectory) {
+  const auto world = room_scene(40000);
+  const Route r = out_and_back();
+  LoopCloser lc(setting(), tracker_gicp());
+  int closed_at = -1;
+  for (std::size_t k = 0; k < r.truth.size(); ++k) {
+    const bool closed = lc.add_keyframe(
+        keyframe_of(world, r.truth[k], r.estimate[k], static_cast<std::int64_t>(k) * kSecond));
+    if (closed && closed_at < 0) closed_at = static_cast<int>(k);
+  }
+  ASSERT_GE(closed_at, 0) << "no loop closed";
+  EXPECT_GE(lc.stats().closures, 1);
+  EXPECT_EQ(lc.stats().keyframes, static_cast<std::int64_t>(r.truth.size()));
+  lc.optimize();
+
+  // The last keyframe's estimate is off by the route's drift; corrected, it is back.
+  const std::size_t last = r.truth.size() - 1;
+  const auto t_last = static_cast<std::int64_t>(last) * kSecond;
+  const double raw = (r.estimate[last].translation() - r.truth[last].translation()).norm();
+  const geometry::Pose fixed = lc.corrected(t_last, r.estimate[last]);
+  const double err = (fixed.translation() - r.truth[last].translation()).norm();
+  const double yaw_raw =
+      Eigen::AngleAxisd(r.estimate[last].linear().transpose() * r.truth[last].linear()).angle();
+  const double yaw_err =
+      Eigen::AngleAxisd(fixed.linear().transpose() * r.truth[last].linear()).angle();
+  ASSERT_GT(raw, 0.08);
+  EXPECT_LT(err, 0.02) << "raw " << raw << " m";
+  EXPECT_LT(yaw_err, 0.25 * yaw_raw);
+  // A pose between two keyframes moves with the newest one before it; before the first
+  // keyframe nothing moves.
+  const geometry::Pose between = lc.corrected(t_last + kSecond / 2, r.estimate[last]);
+  EXPECT_TRUE(between.isApprox(fixed, 1e-12));
+  const geometry::Pose before = lc.corrected(-1, r.estimate[last]);
+  EXPECT_TRUE(before.isApprox(r.estimate[last], 1e-12));
+}
+
+TEST(LoopCloser, NothingIsCorrectedWhileNoOldKeyframeIsNear) {
+  const auto world = room_scene(40000);
+  const Route r = out_and_back();
+  LoopCloser::Setting s = setting();
+  s.min_age_s = 100.0;  // the first keyframe is never old enough
+  LoopCloser lc(s, tracker_gicp());
+  for (std::size_t k = 0; k < r.truth.size(); ++k) {
+    EXPECT_FALSE(lc.add_keyframe(
+        keyframe_of(world, r.truth[k], r.estimate[k], static_cast<std::int64_t>(k) * kSecond)));
+  }
+  lc.optimize();
+  EXPECT_EQ(lc.stats().attempts, 0);
+  const std::size_t last = r.truth.size() - 1;
+  EXPECT_TRUE(lc.corrected(static_cast<std::int64_t>(last) * kSecond, r.estimate[last])
+                  .isApprox(r.estimate[last], 1e-9));
+}
+
+TEST(LoopCloser, RefusesAReturnThatSeesAnotherPlace) {
+  const auto world = room_scene(40000);
+  const auto elsewhere = plane_scene(40000);  // one wall: nothing of the room
+  const Route r = out_and_back();
+  LoopCloser lc(setting(), tracker_gicp());
+  const std::size_t last = r.truth.size() - 1;
+  for (std::size_t k = 0; k <= last; ++k) {
+    const auto& scene = k == last ? elsewhere : world;
+    const bool closed = lc.add_keyframe(
+        keyframe_of(scene, r.truth[k], r.estimate[k], static_cast<std::int64_t>(k) * kSecond));
+    if (k == last) {
+      EXPECT_FALSE(closed);
+    }
+  }
+  EXPECT_GE(lc.stats().rejected, 1);
+}
+
+}  // namespace
+}  // namespace vigs::tracking
