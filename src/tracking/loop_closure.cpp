@@ -175,6 +175,7 @@ const PoseGraphResult& LoopCloser::optimize() {
 }
 
 geometry::Pose LoopCloser::corrected(std::int64_t t_ns, const geometry::Pose& T_w_c) const {
+  if (!has_loop_) return T_w_c;  // bit for bit: nothing was measured to correct it
   const auto it = std::upper_bound(node_t_ns_.begin(), node_t_ns_.end(), t_ns);
   if (it == node_t_ns_.begin()) return T_w_c;
   const auto k = static_cast<std::size_t>(it - node_t_ns_.begin()) - 1;

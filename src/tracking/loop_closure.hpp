@@ -67,7 +67,8 @@ class LoopCloser {
   const PoseGraphResult& optimize();
 
   /// A pose the odometry estimated at t_ns, corrected as its reference keyframe was (the
-  /// newest at or before t_ns); unchanged before the first keyframe.
+  /// newest at or before t_ns); unchanged (bit for bit) before the first keyframe and while
+  /// no loop was closed.
   [[nodiscard]] geometry::Pose corrected(std::int64_t t_ns, const geometry::Pose& T_w_c) const;
 
   [[nodiscard]] const LoopClosureStats& stats() const { return stats_; }
