@@ -77,6 +77,37 @@ TEST_F(LivePipeline, LockstepEqualsReplayAndRepeats) {
   EXPECT_EQ(static_cast<long>(a.tracker.keyframes), a.replay.counters.keyframes);
 }
 
+// tracking.loop_closure on vigs run's mapper thread: with loop candidates only a second old
+// (the 4 s clip never comes back), the clip's walk is "closed" against its start, and the
+// corrected trajectory is vigs replay's (the mapper's one GICP thread sums in another order
+// than replay's two, so to 1e-6, not bit for bit); the poses as tracked are kept apart.
+TEST_F(LivePipeline, LockstepLoopClosureOnTheMapperThreadMatchesReplay) {
+  config::RobotConfig cfg = live_config();
+  cfg.tracking.loop.enabled = true;
+  cfg.tracking.loop.min_age_s = 1.0;
+  cfg.tracking.loop.anchor_spacing_m = 0.2;
+  LiveOptions o;
+  o.recording = recording();
+  o.lockstep = true;
+  o.mapping = true;
+  const LiveResult a = run_live(cfg, o);
+  const ReplayResult ref = replay_recording(recording(), cfg, {});
+  ASSERT_TRUE(a.replay.loop.has_value());
+  ASSERT_TRUE(ref.loop.has_value());
+  EXPECT_GT(a.replay.loop->closures, 0);
+  EXPECT_EQ(a.replay.loop->closures, ref.loop->closures);
+  EXPECT_EQ(a.replay.loop->keyframes, ref.loop->keyframes);
+  ASSERT_EQ(a.replay.frames.size(), ref.frames.size());
+  ASSERT_EQ(a.replay.frames_odometry.size(), ref.frames.size());
+  bool any_moved = false;
+  for (std::size_t i = 0; i < ref.frames.size(); ++i) {
+    ASSERT_TRUE(same_pose(a.replay.frames_odometry[i], ref.frames_odometry[i])) << "frame " << i;
+    ASSERT_TRUE(a.replay.frames[i].T_w_c.isApprox(ref.frames[i].T_w_c, 1e-6)) << "frame " << i;
+    any_moved = any_moved || !same_pose(a.replay.frames[i].T_w_c, a.replay.frames_odometry[i]);
+  }
+  EXPECT_TRUE(any_moved) << "the closures corrected nothing";
+}
+
 // With rt.pin_cpus the tracker's team member 1 is the table's `tracker_w1`, pinned to the CPU
 // the tracker does not use. (It was once made by the pinned tracker thread with a default spec
 // and inherited the tracker's CPU: the two members took turns on one CPU.)
