@@ -236,6 +236,27 @@ TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
   EXPECT_NE(md.find("![rendered vs recorded](plots/rendered_vs_recorded.png)"), std::string::npos);
 }
 
+// A run with the loop closer: trajectory.tum is corrected, the map stays in the frame of the
+// poses as tracked (trajectory_odometry.tum). The ATE is the corrected trajectory's; the views
+// are rendered at the poses the map was built with.
+TEST_F(RenderReportTest, ALoopCorrectedRunIsRenderedAtItsOdometryPoses) {
+  const fs::path d = dir_ / "loop_corrected";
+  fs::create_directories(d);
+  for (const char* f : {pipeline::kMapFile, pipeline::kKeyframesFile, pipeline::kStatsFile})
+    fs::copy_file(dir_ / f, d / f);
+  fs::copy_file(dir_ / "trajectory_perturbed.tum", d / pipeline::kTrajectoryFile);
+  fs::copy_file(dir_ / pipeline::kTrajectoryFile, d / pipeline::kOdometryTrajectoryFile);
+  const ReportResult loop = write_report(options(d, pipeline::kTrajectoryFile));
+  const ReportResult truth = write_report(options(dir_, pipeline::kTrajectoryFile));
+  ASSERT_TRUE(loop.quality_measured && truth.quality_measured);
+  EXPECT_NEAR(loop.ate.stats.rmse, 0.04, 1e-6);  // the corrected trajectory's
+  EXPECT_DOUBLE_EQ(loop.quality.every_nth.mean_psnr_db(), truth.quality.every_nth.mean_psnr_db());
+  // Asked for another estimate by name, the views follow that estimate.
+  fs::copy_file(dir_ / "trajectory_perturbed.tum", d / "other.tum");
+  const ReportResult other = write_report(options(d, "other.tum"));
+  EXPECT_LT(other.quality.every_nth.mean_psnr_db(), truth.quality.every_nth.mean_psnr_db() - 3.0);
+}
+
 TEST_F(RenderReportTest, MissingOptionalFilesAreReportedNotInvented) {
   const fs::path d = dir_ / "partial";
   fs::create_directories(d);
