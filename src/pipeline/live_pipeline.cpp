@@ -389,16 +389,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   if (recording) r.imu_samples = out.source.imu_samples;
   if (camera_driver) out.camera_driver = camera_driver->counters();
   if (imu_driver) out.imu_driver = imu_driver->faults();
+  // The poses published live stay as tracked; corrected in the tracker's clock, as its keyframes.
   if (tracking::LoopCloser* lc = mapper ? mapper->loop_closer() : nullptr) {
-    // The trajectory as the loop closer corrects it (the poses published live stay as
-    // tracked; trajectory_odometry.tum keeps them), in the tracker's clock, as its keyframes.
-    lc->optimize();
-    r.loop = lc->stats();
-    r.frames_odometry.reserve(r.frames.size());
-    for (TrackedFrame& f : r.frames) {
-      r.frames_odometry.push_back(f.T_w_c);
-      f.T_w_c = lc->corrected(f.t_ns, f.T_w_c);
-    }
+    apply_loop_closure(*lc, r);
   }
   if (replay) {
     // Back to the recording's clock (driver_replay.hpp): the RESULTS_DIR is evaluated in it.

@@ -103,6 +103,17 @@ geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_
   return geometry::Pose::Identity();
 }
 
+void apply_loop_closure(tracking::LoopCloser& loops, ReplayResult& r) {
+  loops.optimize();
+  r.loop = loops.stats();
+  r.frames_odometry.clear();
+  r.frames_odometry.reserve(r.frames.size());
+  for (TrackedFrame& f : r.frames) {
+    r.frames_odometry.push_back(f.T_w_c);
+    f.T_w_c = loops.corrected(f.t_ns, f.T_w_c);
+  }
+}
+
 ReplayResult replay_recording(const std::string& path, const config::RobotConfig& cfg,
                               const ReplayOptions& options,
                               const std::function<void(const TrackedFrame&)>& on_frame) {
@@ -227,15 +238,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   if (!odometry)
     throw RecordingError(path + ": no RGB-D frames on " + std::string(io::topics::kRgb.name));
   result.counters = odometry->counters();
-  if (loops) {
-    loops->optimize();
-    result.loop = loops->stats();
-    result.frames_odometry.reserve(result.frames.size());
-    for (TrackedFrame& f : result.frames) {
-      result.frames_odometry.push_back(f.T_w_c);
-      f.T_w_c = loops->corrected(f.t_ns, f.T_w_c);
-    }
-  }
+  if (loops) apply_loop_closure(*loops, result);
   result.imu_samples_fed = feeder.fed();
   if (mapper) {
     result.map = std::make_shared<const mapping::GaussianMap>(mapper->map());

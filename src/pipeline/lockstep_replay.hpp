@@ -112,6 +112,11 @@ struct ReplayResult {
   std::vector<geometry::Pose> frames_odometry;
 };
 
+/// Solves the loop closer's graph and makes r.frames the corrected trajectory, keeping the
+/// poses as tracked in r.frames_odometry and the closer's counts in r.loop (vigs replay and
+/// vigs run, whose frames and keyframes share one clock when this is called).
+void apply_loop_closure(tracking::LoopCloser& loops, ReplayResult& r);
+
 /// Replays `path`. Throws RecordingError naming the file on a damaged or unusable recording
 /// (no frames, frames changing size, undecodable messages, no IMU samples in imu mode); an
 /// unreadable file too. `on_frame` (optional) sees every result as it is made.

@@ -59,9 +59,7 @@ void voxel_static_copy(const Keyframe& kf, double voxel_m, GaussianCloud& out) {
 }  // namespace
 
 LoopCloser::LoopCloser(const Setting& setting, const config::GicpSetting& gicp)
-    : setting_(setting),
-      gicp_setting_(gicp),
-      team_(std::max(1, gicp.num_threads), rt::ThreadSpec{.name = "loop_w"}) {
+    : setting_(setting), team_(std::max(1, gicp.num_threads), rt::ThreadSpec{.name = "loop_w"}) {
   stages_.reserve(3);
   const double fine = std::max(gicp.max_correspondence_distance_m, 1.5 * setting.cloud_voxel_m);
   for (const double dist : {0.4, 0.2, fine}) {
@@ -149,7 +147,6 @@ bool LoopCloser::add_keyframe(const Keyframe& kf, bool after_restart) {
     if (const auto edge = verify(*a, node, sparse, T_w_c_graph)) {
       graph_.add_edge(*edge);
       ++stats_.closures;
-      has_loop_ = true;
       closed = true;
       optimize();
     } else {
@@ -170,12 +167,12 @@ bool LoopCloser::add_keyframe(const Keyframe& kf, bool after_restart) {
 }
 
 const PoseGraphResult& LoopCloser::optimize() {
-  if (has_loop_) stats_.last_optimization = graph_.optimize();
+  if (stats_.closures > 0) stats_.last_optimization = graph_.optimize();
   return stats_.last_optimization;
 }
 
 geometry::Pose LoopCloser::corrected(std::int64_t t_ns, const geometry::Pose& T_w_c) const {
-  if (!has_loop_) return T_w_c;  // bit for bit: nothing was measured to correct it
+  if (stats_.closures == 0) return T_w_c;  // bit for bit: nothing was measured to correct it
   const auto it = std::upper_bound(node_t_ns_.begin(), node_t_ns_.end(), t_ns);
   if (it == node_t_ns_.begin()) return T_w_c;
   const auto k = static_cast<std::size_t>(it - node_t_ns_.begin()) - 1;

@@ -86,7 +86,6 @@ class LoopCloser {
                                       const geometry::Pose& T_w_c);
 
   Setting setting_;
-  config::GicpSetting gicp_setting_;
   rt::WorkerTeam team_;
   /// Verification stages, correspondence distance 0.4 m, 0.15 m, then the tracker's.
   std::vector<std::unique_ptr<Gicp>> stages_;
@@ -96,7 +95,6 @@ class LoopCloser {
   std::vector<geometry::Pose> node_estimate_;  ///< the tracker's poses (graph_ holds the solved)
   std::vector<Anchor> anchors_;
   LoopClosureStats stats_;
-  bool has_loop_ = false;
 };
 
 }  // namespace vigs::tracking
