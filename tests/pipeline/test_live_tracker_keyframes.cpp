@@ -37,38 +37,42 @@ HandedKeyframes run_lockstep(const config::RobotConfig& cfg, const std::string& 
   HandedKeyframes h;
   std::atomic<std::int64_t> newest_tracked_t_ns{INT64_MIN};
   std::atomic<bool> consume{true};
+  // Lockstep: a keyframe is published in the tick that tracked its releasing frame, after
+  // that frame's result; so the newest result seen bounds the releasing frame from below.
+  const auto drain_results = [&] {
+    LiveFrameResult r;
+    while (results.try_pop(r)) {
+      if (!r.end_of_stream) newest_tracked_t_ns = r.frame.t_ns;
+    }
+  };
+  const auto drain_keyframes = [&] {
+    std::uint32_t index = 0;
+    while (handoff.next(index)) {
+      if (index == KeyframeHandoff::kEnd) continue;
+      drain_results();
+      KeyframeSlot& slot = handoff.slot(index);
+      const rt::Frame& f = pool.frame(slot.frame);
+      ++h.total;
+      if (f.t_ns == slot.keyframe.t_ns) ++h.own_frame;
+      if (slot.keyframe.t_ns < newest_tracked_t_ns.load()) ++h.released_later;
+      pool.release(slot.frame);
+      handoff.give_back(index);
+    }
+  };
   std::thread consumer([&] {
-    // Lockstep: a keyframe is published in the tick that tracked its releasing frame, after
-    // that frame's result; so the newest result seen bounds the releasing frame from below.
-    const auto drain_results = [&] {
-      LiveFrameResult r;
-      while (results.try_pop(r)) {
-        if (!r.end_of_stream) newest_tracked_t_ns = r.frame.t_ns;
-      }
-    };
     while (consume.load()) {
       PoseSample p;
       while (poses.try_pop(p)) {
       }
       drain_results();
-      std::uint32_t index = 0;
-      while (handoff.next(index)) {
-        if (index == KeyframeHandoff::kEnd) continue;
-        drain_results();
-        KeyframeSlot& slot = handoff.slot(index);
-        const rt::Frame& f = pool.frame(slot.frame);
-        ++h.total;
-        if (f.t_ns == slot.keyframe.t_ns) ++h.own_frame;
-        if (slot.keyframe.t_ns < newest_tracked_t_ns.load()) ++h.released_later;
-        pool.release(slot.frame);
-        handoff.give_back(index);
-      }
+      drain_keyframes();
       std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
   });
   while (!tracker.done() && !tracker.failed()) tracker.tick();
   consume = false;
   consumer.join();
+  drain_keyframes();  // the mapper's side takes what the last tick handed over after its stop
   rig.source.stop();
   EXPECT_FALSE(tracker.failed()) << tracker.failure_message();
   EXPECT_EQ(tracker.counters().keyframe_drops, 0u);
