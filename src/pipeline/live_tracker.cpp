@@ -13,7 +13,6 @@ namespace vigs::pipeline {
 namespace {
 
 constexpr std::size_t kEarlyImuSamples = 4096;  // IMU samples kept before the first frame
-constexpr std::size_t kInitSamples = 20;        // without samples before it: the next 20
 // A frame whose newest IMU sample is older than this has no IMU of its own (the stream stopped).
 constexpr std::int64_t kImuStaleNs = 100'000'000;
 // How long a frame waits at most for the IMU to deliver a sample after its stamp: two IMU
@@ -165,19 +164,23 @@ void LiveTracker::await_imu(std::int64_t t_ns) noexcept {
 }
 
 bool LiveTracker::start_odometry(std::int64_t t_ns) {
-  // Gather samples up to the frame; with none there, wait (lockstep) for the first 20 after it.
+  // Gather samples up to the frame (and, without enough there, wait for the next ones).
   gather_early_imu(t_ns);
   const bool imu_mode = s_.odometry.guess
                             ? *s_.odometry.guess == tracking::InitialGuessMode::imu
                             : cfg_.tracking.initial_guess == tracking::InitialGuessMode::imu;
-  if (imu_mode && early_imu_.empty()) {
+  if (imu_mode) {
+    // initial_camera_pose() levels the frame from kMinRestSamples in its rest window; when the
+    // IMU did not run that long before the frame, wait (lockstep) for the rest after it.
     const auto enough = [&] {
-      while (early_imu_.size() < kInitSamples) {
+      for (;;) {
+        std::size_t in_window = 0;
+        for (const ImuSample& s : early_imu_) in_window += s.t_ns >= t_ns - kRestWindowNs;
+        if (in_window >= kMinRestSamples || early_imu_.size() == early_imu_.capacity()) return true;
         ImuSample s;
         if (!r_.imu.try_pop(s)) return false;
         early_imu_.push_back(s);
       }
-      return true;
     };
     if (!wait(enough, "the first IMU samples (imu ring)")) return false;
   }

@@ -81,19 +81,18 @@ geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_
     used = InitialPoseSource::ground_truth;
     return *T_w_b_gt * T_b_c;
   }
-  constexpr std::int64_t kRestWindowNs = 500'000'000;
   std::size_t begin = 0, end = 0;
   for (std::size_t i = 0; i < motion.imu.size(); ++i) {
     const std::int64_t t = motion.imu[i].t_ns;
     if (t < t_first_ns - kRestWindowNs) begin = i + 1;
     if (t <= t_first_ns) end = i + 1;
   }
-  if (end <= begin && !motion.imu.empty()) {  // no sample before the frame: the first ones
-    begin = 0;
-    end = std::min<std::size_t>(motion.imu.size(), 20);
+  if (begin == motion.imu.size()) {  // the IMU stopped before the window: its last samples
+    begin -= std::min(begin, kMinRestSamples);
   }
+  end = std::max(end, std::min(motion.imu.size(), begin + kMinRestSamples));
   const std::span<const ImuSample> at_rest(motion.imu.data() + begin, end - begin);
-  if (const auto R_w_b = inertial::gravity_aligned_R_w_b(at_rest)) {
+  if (const auto R_w_b = inertial::gravity_aligned_R_w_b(at_rest, t_first_ns)) {
     used = InitialPoseSource::gravity;
     geometry::Pose T_w_b = geometry::Pose::Identity();
     T_w_b.linear() = *R_w_b;

@@ -47,6 +47,14 @@ class ImuFeeder {
 enum class InitialPoseSource { ground_truth, gravity, identity };
 const char* to_string(InitialPoseSource source);
 
+/// The accelerometer window that levels the first frame (gravity start): the samples of the
+/// half second up to the frame, and when the IMU started with (or just before) the camera, the
+/// first kMinRestSamples from the window's start, reaching past the frame (the gyro carries
+/// them back to it, inertial/gravity_alignment.hpp). One sample is not enough: its noise alone
+/// tilted the simulated office's start by 0.3 degrees (2.0e-3 m/s^2/sqrt(Hz) at 200 Hz).
+inline constexpr std::int64_t kRestWindowNs = 500'000'000;
+inline constexpr std::size_t kMinRestSamples = 40;
+
 /// The first frame's camera pose from the recording (see the header comment); `used` says which.
 /// `prefer` gravity: the ground truth is used only when there are no IMU samples.
 geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_first_ns,

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <new>
+#include <vector>
 
 #include "core/config/extrinsics_settings.hpp"
 #include "core/config/imu_settings.hpp"
@@ -79,8 +81,46 @@ TEST(GravityAlignment, LevelsTheBodyFromAccelerometerAtRest) {
   ImuSample s;
   for (int k = 0; k < 3; ++k) s.accel_mps2[k] = f_b[k];
   const ImuSample two[2] = {s, s};
-  EXPECT_LT((*gravity_aligned_R_w_b(std::span<const ImuSample>(two)) - *R).norm(), 1e-12);
-  EXPECT_FALSE(gravity_aligned_R_w_b(std::span<const ImuSample>()).has_value());
+  EXPECT_LT((*gravity_aligned_R_w_b(std::span<const ImuSample>(two), 0) - *R).norm(), 1e-12);
+  EXPECT_FALSE(gravity_aligned_R_w_b(std::span<const ImuSample>(), 0).has_value());
+}
+
+TEST(GravityAlignment, TheGyroCarriesASwayingWindowBackToTheReferenceFrame) {
+  // At rest in position, the body sways about x and z at a constant rate: every reading in the
+  // window sees gravity from another attitude. Referred to the attitude at t_ref by the gyro,
+  // they agree exactly; their plain mean is tilted by half the window's rotation.
+  const Vector3d w_rps(0.2, 0.0, 0.1);
+  const Eigen::Matrix3d R_w_b0 = geometry::so3_exp<double>(Vector3d(0.05, -0.1, 0.0));
+  constexpr std::int64_t kDtNs = 5'000'000;
+  std::vector<ImuSample> samples(100);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Eigen::Matrix3d R_w_b =
+        R_w_b0 * geometry::so3_exp<double>(Vector3d(w_rps * 0.005 * static_cast<double>(i)));
+    const Vector3d f_b = R_w_b.transpose() * Vector3d(0, 0, 9.81);
+    samples[i].t_ns = static_cast<std::int64_t>(i) * kDtNs;
+    for (int k = 0; k < 3; ++k) {
+      samples[i].gyro_rps[k] = w_rps[k];
+      samples[i].accel_mps2[k] = f_b[k];
+    }
+  }
+  const auto tilt_rad = [](const Eigen::Matrix3d& R_est, const Eigen::Matrix3d& R_true) {
+    const Vector3d up_est = R_est.transpose() * Vector3d::UnitZ();  // world up in the body
+    const Vector3d up_true = R_true.transpose() * Vector3d::UnitZ();
+    return std::atan2(up_est.cross(up_true).norm(), up_est.dot(up_true));
+  };
+  for (const std::size_t ref : {std::size_t{0}, std::size_t{40}, std::size_t{99}}) {
+    SCOPED_TRACE(ref);
+    const Eigen::Matrix3d R_true =
+        R_w_b0 * geometry::so3_exp<double>(Vector3d(w_rps * 0.005 * static_cast<double>(ref)));
+    const auto R = gravity_aligned_R_w_b(std::span<const ImuSample>(samples),
+                                         static_cast<std::int64_t>(ref) * kDtNs + 1'000'000);
+    ASSERT_TRUE(R.has_value());
+    EXPECT_LT(tilt_rad(*R, R_true), 1e-9);
+  }
+  Vector3d mean = Vector3d::Zero();
+  for (const ImuSample& s : samples)
+    mean += Vector3d(s.accel_mps2[0], s.accel_mps2[1], s.accel_mps2[2]);
+  EXPECT_GT(tilt_rad(*gravity_aligned_R_w_b(Vector3d(mean / 100.0)), R_w_b0), 0.03);
 }
 
 }  // namespace

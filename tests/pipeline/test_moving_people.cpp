@@ -167,31 +167,41 @@ TEST(MovingPeople, HeldKeyframesKeepTheMapUpThroughAQuickTurn) {
 }
 
 // The tracker's defaults against the same tracker with every people mechanism off (no
-// confirmation, no free-space test, huber, 0.1 m gate), on an office with 24 walkers: replayed
-// in lockstep from a recording with the IMU guess, ATE against the ground truth.
+// confirmation, no free-space test, huber, 0.1 m gate), on offices with 24 walkers: replayed
+// in lockstep from a recording with the IMU guess, ATE against the ground truth. One 20 s run
+// is not a measurement: with a level start, a single corridor slip swings the ATE without
+// rejection between 4 and 8 cm (seed 1, start tilted by 0.02 or 0.05 degrees), so the test
+// sums three offices.
 TEST(MovingPeople, DefaultsBeatTheTrackerWithoutRejection) {
-  config::RobotConfig cfg = testing::small_office(20.0);
-  cfg.sim.humans = 24;
-  testing::TempDir dir;
-  const std::string path = dir.file("office.mcap");
-  testing::simulate(cfg, path);
-  const RecordedMotion motion = read_recorded_motion(path);
-  const ReplayResult with = replay_recording(path, cfg, {});
-  config::RobotConfig off = cfg;
-  off.tracking.gicp.max_correspondence_distance_m = 0.1;
-  off.tracking.gicp.kernel = config::RobustKernel::huber;
-  off.tracking.local_map.confirm_distance_m = 0.0;
-  off.tracking.moving_margin_m = 0.0;
-  off.tracking.moving_window_frames = 0;
-  const ReplayResult without = replay_recording(path, off, {});
-  const double ate_with = testing::camera_ate(motion, with.frames, cfg).stats.rmse;
-  const double ate_without = testing::camera_ate(motion, without.frames, off).stats.rmse;
-  std::printf("24 people, 20 s: ATE %.4f m with the defaults, %.4f m without rejection\n", ate_with,
-              ate_without);
-  EXPECT_EQ(with.counters.lost, 0);
-  // Measured 3.8 cm against 12.9 cm (3.4x): at least 2x, and under 8 cm.
-  EXPECT_LT(2.0 * ate_with, ate_without);
-  EXPECT_LT(ate_with, 0.08);
+  double sum_with = 0.0, sum_without = 0.0;
+  for (const int seed : {1, 2, 3}) {
+    config::RobotConfig cfg = testing::small_office(20.0);
+    cfg.sim.humans = 24;
+    cfg.sim.seed = seed;
+    testing::TempDir dir;
+    const std::string path = dir.file("office.mcap");
+    testing::simulate(cfg, path);
+    const RecordedMotion motion = read_recorded_motion(path);
+    const ReplayResult with = replay_recording(path, cfg, {});
+    config::RobotConfig off = cfg;
+    off.tracking.gicp.max_correspondence_distance_m = 0.1;
+    off.tracking.gicp.kernel = config::RobustKernel::huber;
+    off.tracking.local_map.confirm_distance_m = 0.0;
+    off.tracking.moving_margin_m = 0.0;
+    off.tracking.moving_window_frames = 0;
+    const ReplayResult without = replay_recording(path, off, {});
+    const double ate_with = testing::camera_ate(motion, with.frames, cfg).stats.rmse;
+    const double ate_without = testing::camera_ate(motion, without.frames, off).stats.rmse;
+    std::printf("seed %d, 24 people, 20 s: ATE %.4f m with the defaults, %.4f m without\n", seed,
+                ate_with, ate_without);
+    EXPECT_EQ(with.counters.lost, 0);
+    sum_with += ate_with;
+    sum_without += ate_without;
+  }
+  // Measured 4.2 + 7.9 + 3.8 cm against 3.8 + 103 + 24 cm: at least 3x, and under 8 cm each
+  // on average.
+  EXPECT_LT(3.0 * sum_with, sum_without);
+  EXPECT_LT(sum_with, 3 * 0.08);
 }
 
 // The fused filter (tracking.fusion: fused) on the same kind of sequence: with the process
