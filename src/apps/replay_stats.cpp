@@ -60,6 +60,8 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
     const tracking::LoopClosureStats& l = *r.loop;
     s["loop_closure"] = {{"keyframes", l.keyframes},
                          {"anchors", l.anchors},
+                         {"anchors_dropped", l.anchors_dropped},
+                         {"anchor_bytes", l.anchor_bytes},
                          {"attempts", l.attempts},
                          {"closures", l.closures},
                          {"rejected", l.rejected},

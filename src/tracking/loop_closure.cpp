@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_set>
 
+#include "core/capacity_bytes.hpp"
 #include "core/geometry/so3.hpp"
 #include "tracking/gaussian_cloud.hpp"
 
@@ -54,7 +56,15 @@ void voxel_static_copy(const Keyframe& kf, double voxel_m, GaussianCloud& out) {
     out.points_m.push_back(p);
     out.cov_m2.push_back(c.cov_m2[i]);
   }
+  out.points_m.shrink_to_fit();  // kept for minutes: hold what is used, and count it exactly
+  out.cov_m2.shrink_to_fit();
 }
+
+std::size_t cloud_bytes(const GaussianCloud& c) {
+  return capacity_bytes(c.points_m, c.cov_m2);
+}
+
+constexpr double kAnchorViewRad = M_PI / 6.0;  // views this close see the same place
 
 }  // namespace
 
@@ -154,16 +164,47 @@ bool LoopCloser::add_keyframe(const Keyframe& kf, bool after_restart) {
     }
   }
 
-  const bool far_from_last =
-      anchors_.empty() ||
-      (graph_.pose(anchors_.back().node).translation() - graph_.pose(node).translation()).norm() >=
-          setting_.anchor_spacing_m ||
-      view_angle_rad(graph_.pose(anchors_.back().node), graph_.pose(node)) > M_PI / 6.0;
-  if (far_from_last) {
+  if (new_place(node)) {
+    stats_.anchor_bytes += cloud_bytes(sparse);
     anchors_.push_back(Anchor{node, kf.t_ns, std::move(sparse)});
-    ++stats_.anchors;
+    bound_anchors();
+    stats_.anchors = static_cast<std::int64_t>(anchors_.size());
   }
   return closed;
+}
+
+bool LoopCloser::new_place(int node) const {
+  const geometry::Pose& T_w_c = graph_.pose(node);
+  return std::none_of(anchors_.begin(), anchors_.end(), [&](const Anchor& a) {
+    const geometry::Pose& T_w_a = graph_.pose(a.node);
+    return (T_w_a.translation() - T_w_c.translation()).norm() < setting_.anchor_spacing_m &&
+           view_angle_rad(T_w_a, T_w_c) <= kAnchorViewRad;
+  });
+}
+
+void LoopCloser::bound_anchors() {
+  const auto budget = static_cast<std::size_t>(setting_.max_anchor_mb * 1024.0 * 1024.0);
+  // O(n^2) per drop over a few hundred anchors: well under a millisecond beside the GICP of a
+  // verification, and only once the budget is reached.
+  while (stats_.anchor_bytes > budget && anchors_.size() > 1) {
+    std::size_t drop = 0;  // the oldest, when no anchor has a neighbour seen the same way
+    double drop_d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i + 1 < anchors_.size(); ++i) {  // never the newest
+      const geometry::Pose& T_w_i = graph_.pose(anchors_[i].node);
+      for (std::size_t j = 0; j < anchors_.size(); ++j) {
+        if (j == i) continue;
+        const geometry::Pose& T_w_j = graph_.pose(anchors_[j].node);
+        const double d = (T_w_i.translation() - T_w_j.translation()).norm();
+        if (d < drop_d && view_angle_rad(T_w_i, T_w_j) <= kAnchorViewRad) {
+          drop = i;
+          drop_d = d;
+        }
+      }
+    }
+    stats_.anchor_bytes -= cloud_bytes(anchors_[drop].cloud_c);
+    anchors_.erase(anchors_.begin() + static_cast<std::ptrdiff_t>(drop));
+    ++stats_.anchors_dropped;
+  }
 }
 
 const PoseGraphResult& LoopCloser::optimize() {

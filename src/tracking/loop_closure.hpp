@@ -7,9 +7,9 @@
 // - Every keyframe becomes a node of a pose graph (pose_graph.hpp), joined to the previous one
 //   by its odometry: the relative pose of the two estimates, with a drift model of the
 //   tracker's per-metre error (loop_closure.cpp). Across a tracker restart the edge is loose.
-// - Anchors: a keyframe at least anchor_spacing_m from the last anchor (or turned 30 degrees)
-//   keeps a sparse copy of its static points (every cloud_stride-th point the moving test did
-//   not flag), in its camera frame.
+// - Anchors: a keyframe with no anchor within anchor_spacing_m seen within 30 degrees of its
+//   view keeps a sparse copy of its static points (one per cloud_voxel_m voxel of the points
+//   the moving test did not flag), in its camera frame. A place walked again adds none.
 // - Detection is geometric: the nearest anchor at least min_age_s older, within
 //   search_radius_m of the keyframe's estimate and with optical axes within
 //   max_view_angle_deg. The drift it must bridge is decimetres, so the estimate is the prior
@@ -22,7 +22,10 @@
 //   the correction of the newest keyframe at or before t_ns (T_kf_opt T_kf_est^-1 T_w_c).
 //
 // Memory: an anchor keeps about 7,000 points of 48 B (0.3 MB) at 720x480; one a metre of new
-// path, so about 50 MB for the 175 m office loop, growing with the path (no bound yet).
+// path, so about 50 MB for the 175 m office loop. Bounded by max_anchor_mb: beyond it the
+// anchor nearest to another seen the same way is dropped (the oldest of equals; the oldest
+// when none has such a neighbour), so a long run thins its places evenly instead of
+// forgetting its start.
 //
 // Not on a real-time thread: add_keyframe() allocates (anchor clouds, the kd-tree) and GICP
 // runs on its own team. Lockstep replay calls it in line; the result is deterministic.
@@ -43,10 +46,12 @@ struct Keyframe;
 
 struct LoopClosureStats {
   std::int64_t keyframes = 0;
-  std::int64_t anchors = 0;
-  std::int64_t attempts = 0;  ///< keyframes with a candidate, registered by GICP
-  std::int64_t closures = 0;  ///< verified: loop edges
-  std::int64_t rejected = 0;  ///< attempts GICP did not verify
+  std::int64_t anchors = 0;          ///< kept now
+  std::int64_t anchors_dropped = 0;  ///< over max_anchor_mb
+  std::size_t anchor_bytes = 0;      ///< heap held by the kept clouds
+  std::int64_t attempts = 0;         ///< keyframes with a candidate, registered by GICP
+  std::int64_t closures = 0;         ///< verified: loop edges
+  std::int64_t rejected = 0;         ///< attempts GICP did not verify
   PoseGraphResult last_optimization;
 };
 
@@ -81,6 +86,10 @@ class LoopCloser {
     GaussianCloud cloud_c;
   };
   [[nodiscard]] const Anchor* candidate(std::int64_t t_ns, const geometry::Pose& T_w_c) const;
+  /// No anchor within anchor_spacing_m of the node seen within 30 degrees of its view.
+  [[nodiscard]] bool new_place(int node) const;
+  /// Drops the most redundant anchors while the kept clouds exceed max_anchor_mb.
+  void bound_anchors();
   /// Registers `source_c` (at T_w_c) to the anchor; the loop edge when verified.
   std::optional<PoseGraphEdge> verify(const Anchor& anchor, int node, const GaussianCloud& source_c,
                                       const geometry::Pose& T_w_c);

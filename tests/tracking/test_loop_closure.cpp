@@ -148,5 +148,45 @@ TEST(LoopCloser, RefusesAReturnThatSeesAnotherPlace) {
   EXPECT_GE(lc.stats().rejected, 1);
 }
 
+TEST(LoopCloser, AReturnAlongThePathKeepsNoNewAnchors) {
+  const auto world = room_scene(40000);
+  const Route r = out_and_back();
+  LoopCloser lc(setting(), tracker_gicp());
+  std::int64_t anchors_out = 0;
+  for (std::size_t k = 0; k < r.truth.size(); ++k) {
+    lc.add_keyframe(
+        keyframe_of(world, r.truth[k], r.estimate[k], static_cast<std::int64_t>(k) * kSecond));
+    if (k == r.truth.size() / 2) anchors_out = lc.stats().anchors;
+  }
+  // Out 1.2 m in 0.2 m steps (0.21 m estimated): a new place each; the way back sees them again.
+  EXPECT_GE(anchors_out, 6);
+  EXPECT_EQ(lc.stats().anchors, anchors_out);
+  EXPECT_EQ(lc.stats().anchors_dropped, 0);
+  EXPECT_GT(lc.stats().closures, 0);
+}
+
+TEST(LoopCloser, KeepsItsAnchorsWithinTheMemoryBudget) {
+  const auto world = room_scene(40000);
+  const auto along = [](int k) {
+    return geometry::make_pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.25 * k, 0, 0));
+  };
+  LoopCloser one(setting(), tracker_gicp());
+  one.add_keyframe(keyframe_of(world, along(0), along(0), 0));
+  const std::size_t per_anchor = one.stats().anchor_bytes;
+  ASSERT_GT(per_anchor, 10000u);
+
+  LoopCloser::Setting s = setting();
+  s.max_anchor_mb = 5.5 * static_cast<double>(per_anchor) / (1024.0 * 1024.0);
+  LoopCloser lc(s, tracker_gicp());
+  for (int k = 0; k < 12; ++k) {
+    lc.add_keyframe(keyframe_of(world, along(k), along(k), k * kSecond));
+    EXPECT_LE(static_cast<double>(lc.stats().anchor_bytes), s.max_anchor_mb * 1024.0 * 1024.0);
+  }
+  // 12 places 0.25 m apart, each new: the clouds differ a little with the view, so 4-6 fit.
+  EXPECT_GE(lc.stats().anchors, 4);
+  EXPECT_LE(lc.stats().anchors, 6);
+  EXPECT_EQ(lc.stats().anchors + lc.stats().anchors_dropped, 12);
+}
+
 }  // namespace
 }  // namespace vigs::tracking

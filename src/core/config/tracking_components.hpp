@@ -115,6 +115,9 @@ struct LoopClosureSetting {
   double anchor_spacing_m = 1.0;     ///< a keyframe's cloud is kept this far from the last kept
   double min_inlier_ratio = 0.35;    ///< verification: GICP inliers within 1.5 cloud voxels
   double cloud_voxel_m = 0.08;       ///< kept clouds: one static point per voxel this wide
+  /// Memory the kept clouds may hold (about 0.3 MB a metre of new path at 720x480); beyond it
+  /// the most redundant anchor (nearest to another seen the same way) is dropped.
+  double max_anchor_mb = 256.0;
 };
 
 /// What Tracker::Setting holds beyond its threads (tracking/tracker.hpp).

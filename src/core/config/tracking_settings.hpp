@@ -117,13 +117,18 @@ struct TrackingSettings : TrackerSetting {
             {"deg", 0.0, 180.0, "and look within this angle of its optical axis"});
     v.field("loop_anchor_spacing_m", loop.anchor_spacing_m,
             {"m", 0.0, 100.0,
-             "a keyframe's cloud is kept as a loop candidate this far from the last one kept"});
+             "a keyframe's cloud is kept as a loop candidate when no kept one seen within "
+             "30 degrees of its view is this close"});
     v.field("loop_min_inlier_ratio", loop.min_inlier_ratio,
             {"-", 0.0, 1.0, "a loop is accepted when GICP matches this share of the points"});
     v.field("loop_cloud_voxel_m", loop.cloud_voxel_m,
             {"m", 0.01, 1.0,
              "loop clouds keep one static keyframe point per voxel this wide (verification "
              "matches within 1.5 voxels)"});
+    v.field("loop_max_anchor_mb", loop.max_anchor_mb,
+            {"MB", 1.0, 1e6,
+             "memory of the kept loop clouds; beyond it the most redundant one (nearest to "
+             "another seen the same way) is dropped"});
     v.require(preprocess.depth.near_m < preprocess.depth.far_m, "far_m",
               "far_m must exceed near_m");
     v.require(local_map.voxel_m >= gicp.max_correspondence_distance_m, "local_map_voxel_m",
