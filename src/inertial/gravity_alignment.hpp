@@ -35,12 +35,12 @@ inline std::optional<Eigen::Matrix3d> gravity_aligned_R_w_b(std::span<const ImuS
   const auto accel = [](const ImuSample& s) {
     return Eigen::Vector3d(s.accel_mps2[0], s.accel_mps2[1], s.accel_mps2[2]);
   };
+  const auto distance_ns = [&](std::size_t j) {
+    return at_rest[j].t_ns > t_ref_ns ? at_rest[j].t_ns - t_ref_ns : t_ref_ns - at_rest[j].t_ns;
+  };
   std::size_t k = 0;  // the sample nearest t_ref
   for (std::size_t i = 1; i < at_rest.size(); ++i) {
-    const auto d = [&](std::size_t j) {
-      return at_rest[j].t_ns > t_ref_ns ? at_rest[j].t_ns - t_ref_ns : t_ref_ns - at_rest[j].t_ns;
-    };
-    if (d(i) < d(k)) k = i;
+    if (distance_ns(i) < distance_ns(k)) k = i;
   }
   const auto dt_s = [&](std::size_t a, std::size_t b) {
     return 1e-9 * static_cast<double>(at_rest[b].t_ns - at_rest[a].t_ns);

@@ -172,15 +172,16 @@ bool LiveTracker::start_odometry(std::int64_t t_ns) {
   if (imu_mode) {
     // initial_camera_pose() levels the frame from kMinRestSamples in its rest window; when the
     // IMU did not run that long before the frame, wait (lockstep) for the rest after it.
+    std::size_t in_window = 0;
+    for (const ImuSample& s : early_imu_) in_window += s.t_ns >= t_ns - kRestWindowNs;
     const auto enough = [&] {
-      for (;;) {
-        std::size_t in_window = 0;
-        for (const ImuSample& s : early_imu_) in_window += s.t_ns >= t_ns - kRestWindowNs;
-        if (in_window >= kMinRestSamples || early_imu_.size() == early_imu_.capacity()) return true;
+      while (in_window < kMinRestSamples && early_imu_.size() < early_imu_.capacity()) {
         ImuSample s;
         if (!r_.imu.try_pop(s)) return false;
         early_imu_.push_back(s);
+        in_window += s.t_ns >= t_ns - kRestWindowNs;
       }
+      return true;
     };
     if (!wait(enough, "the first IMU samples (imu ring)")) return false;
   }
