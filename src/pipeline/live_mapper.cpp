@@ -3,9 +3,8 @@
 #include <algorithm>
 
 #include "core/types/image.hpp"
-#include "pipeline/moving_pixels.hpp"
+#include "pipeline/mapper_keyframe.hpp"
 #include "pipeline/pool_frame_view.hpp"
-#include "pipeline/tracking_keyframe.hpp"
 #include "rt/clock.hpp"
 
 namespace vigs::pipeline {
@@ -18,7 +17,6 @@ LiveMapper::LiveMapper(const config::MappingSettings& s, const PinholeCamera& ca
       depth_scale_m_(depth_scale_m),
       moving_mask_(s.moving_mask),
       stride_px_(std::max(1, tracker_pixel_stride)),
-      sample_angle_rad_(keyframe_sample_angle_rad(camera, stride_px_)),
       pool_(pool),
       handoff_(handoff),
       team_(s.threads, worker_spec),
@@ -48,15 +46,8 @@ void LiveMapper::tick() {
     ImageF32 depth_m;
     copy_rgb8(view, rgb);
     copy_depth_m(view, depth_m);
-    if (moving_mask_.enabled)
-      mask_moving_pixels(slot.keyframe, camera_, stride_px_, moving_mask_.dilation_px, depth_m);
-    auto m = std::make_unique<mapping::MapperKeyframe>();
-    m->id = next_id_++;
-    m->gaussians = to_keyframe_gaussians(slot.keyframe, sample_angle_rad_);
-    m->camera = mapping::RenderCamera::from(camera_, slot.keyframe.T_w_c);
-    m->rgb.resize(rgb.data.size());
-    for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;
-    m->depth_m = std::move(depth_m.data);
+    auto m = make_mapper_keyframe(next_id_++, slot.keyframe, camera_, stride_px_, moving_mask_, rgb,
+                                  std::move(depth_m));
     if (loops_) loops_->add_keyframe(slot.keyframe, slot.after_restart);
     pool_.release(slot.frame);
     slot.frame = rt::FrameHandle{};

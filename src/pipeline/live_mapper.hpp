@@ -51,7 +51,6 @@ class LiveMapper {
   float depth_scale_m_;
   config::MovingMaskSettings moving_mask_;
   int stride_px_;
-  double sample_angle_rad_;  ///< of the keyframes' points (footprint-sized insertion)
   rt::FramePool& pool_;
   KeyframeHandoff& handoff_;
   rt::WorkerTeam team_;

@@ -2,9 +2,7 @@
 
 #include <algorithm>
 
-#include "mapping/rgbd_keyframe.hpp"
-#include "pipeline/moving_pixels.hpp"
-#include "pipeline/tracking_keyframe.hpp"
+#include "pipeline/mapper_keyframe.hpp"
 
 namespace vigs::pipeline {
 namespace {
@@ -23,7 +21,6 @@ LockstepMapper::LockstepMapper(const config::MappingSettings& s, const PinholeCa
     : camera_(camera),
       moving_mask_(s.moving_mask),
       stride_px_(std::max(1, tracker_pixel_stride)),
-      sample_angle_rad_(keyframe_sample_angle_rad(camera, stride_px_)),
       pool_(s.threads, rt::ThreadSpec{.name = "mapper_w1"}),
       ring_(8),
       // max_pending 4: a replay adds at most one keyframe per tick, so nothing is skipped.
@@ -63,17 +60,8 @@ bool LockstepMapper::add_keyframe(const tracking::Keyframe& kf) {
 }
 
 void LockstepMapper::add(const tracking::Keyframe& kf, const ImageU8& rgb, ImageF32 depth_m) {
-  auto m = std::make_unique<mapping::MapperKeyframe>();
-  m->id = next_id_++;
-  // the people's pixels first, so that they give no colour to the points beside them either
-  if (moving_mask_.enabled)
-    mask_moving_pixels(kf, camera_, stride_px_, moving_mask_.dilation_px, depth_m);
-  m->gaussians = to_keyframe_gaussians(kf, sample_angle_rad_);
-  mapping::footprint_colours(camera_, rgbd_view(kf.t_ns, depth_m, rgb), stride_px_, m->gaussians);
-  m->camera = mapping::RenderCamera::from(camera_, kf.T_w_c);
-  m->rgb.resize(rgb.data.size());
-  for (std::size_t i = 0; i < rgb.data.size(); ++i) m->rgb[i] = rgb.data[i] / 255.0f;
-  m->depth_m = std::move(depth_m.data);
+  auto m = make_mapper_keyframe(next_id_++, kf, camera_, stride_px_, moving_mask_, rgb,
+                                std::move(depth_m));
   // The ring holds 8 and every step() drains it, so this fails only if step() is not called;
   // the keyframe is then dropped and counted, like any keyframe beyond a queue bound.
   if (!ring_.try_push(std::move(m))) ++dropped_keyframes_;

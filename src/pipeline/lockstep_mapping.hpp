@@ -51,7 +51,6 @@ class LockstepMapper {
   PinholeCamera camera_;
   config::MovingMaskSettings moving_mask_;
   int stride_px_;
-  double sample_angle_rad_;
   rt::WorkerTeam pool_;
   mapping::KeyframeRing ring_;
   std::unique_ptr<mapping::Mapper> mapper_;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "pipeline/keyframe_handoff.hpp"
 #include "pipeline/live_mapper.hpp"
@@ -63,6 +64,64 @@ TEST(LiveMapperInsertion, KeyframePointsGetFootprintSizedGaussians) {
     // would give sqrt(1e-3) / (2 * 2^1.5) = 5.6 mm here
     EXPECT_NEAR(sd[1], s.insert.cover * footprint_m, 1e-4) << "Gaussian " << i;
     EXPECT_NEAR(sd[2], s.insert.cover * footprint_m, 1e-4) << "Gaussian " << i;
+  }
+}
+
+// Every Gaussian of the live map takes its patch's mean colour, as the replay's do
+// (pipeline/mapper_keyframe.hpp): on stripes one pixel wide, the colour of the one pixel a
+// sample falls on (what the live mapper once inserted) is 0 or 200, the patch mean in between.
+TEST(LiveMapperInsertion, KeyframeGaussiansTakeTheirPatchMeanColour) {
+  const int w = 64, h = 48, stride = 4;
+  const PinholeCamera camera{w, h, 60.0, 60.0, 31.5, 23.5};
+  rt::FramePool pool(rt::FramePoolSettings{4, w, h, 3});
+  KeyframeHandoff handoff(2, 1024);
+  config::MappingSettings s;
+  s.far_field.depth_m = 0.0;
+  s.see_through.enabled = false;
+  s.moving_mask.enabled = false;
+  s.iterations_per_tick = 0;
+  s.threads = 1;
+  LiveMapper mapper(s, camera, 0.001f, pool, handoff, rt::ThreadSpec{.name = "mapper_w1"}, stride);
+
+  const rt::FrameHandle fh = pool.acquire();
+  ASSERT_TRUE(fh.valid());
+  rt::Frame& f = pool.frame(fh);
+  std::fill(f.depth.begin(), f.depth.end(), std::uint16_t{2000});
+  const auto stripe = [](int u) { return static_cast<std::uint8_t>(u % 2 == 0 ? 0 : 200); };
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u)
+      for (int c = 0; c < 3; ++c)
+        f.colour[3 * (static_cast<std::size_t>(v) * w + static_cast<std::size_t>(u)) +
+                 static_cast<std::size_t>(c)] = stripe(u);
+  KeyframeSlot* slot = handoff.acquire();
+  ASSERT_NE(slot, nullptr);
+  slot->keyframe = tracking::Keyframe{};
+  std::vector<int> us;
+  for (int v = stride / 2; v < h - stride / 2; v += stride)
+    for (int u = stride / 2; u < w - stride / 2; u += stride) {
+      const float z = 2.0f;
+      slot->keyframe.cloud_c.points_m.emplace_back((u - 31.5f) * z / 60.0f, (v - 23.5f) * z / 60.0f,
+                                                   z);
+      slot->keyframe.cloud_c.cov_raw_m2.push_back(
+          Eigen::Vector3f(1e-3f, 1e-3f, 1e-7f).asDiagonal());
+      slot->keyframe.cloud_c.cov_m2.push_back(Eigen::Matrix3f::Identity());
+      slot->keyframe.cloud_c.colors_rgb.push_back({stripe(u), stripe(u), stripe(u)});
+      us.push_back(u);
+    }
+  slot->frame = fh;
+  handoff.publish(slot);
+  mapper.tick();
+
+  const mapping::GaussianMap& map = mapper.mapper().map();
+  ASSERT_EQ(map.size(), us.size());
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    // the patch: columns u - 2 .. u + 2 (stride / 2 either side), every row alike
+    double sum = 0.0;
+    for (int u = us[i] - stride / 2; u <= us[i] + stride / 2; ++u) sum += stripe(u);
+    const double patch_mean = sum / (stride + 1) / 255.0;
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(map.color_rgb[3 * i + static_cast<std::size_t>(k)], patch_mean, 1e-5)
+          << "Gaussian " << i;
   }
 }
 
