@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "pipeline/keyframe_handoff.hpp"
@@ -16,18 +17,43 @@
 namespace vigs::pipeline {
 namespace {
 
-TEST(LiveMapperInsertion, KeyframePointsGetFootprintSizedGaussians) {
-  const int w = 64, h = 48, stride = 4;
-  const PinholeCamera camera{w, h, 60.0, 60.0, 31.5, 23.5};
-  rt::FramePool pool(rt::FramePoolSettings{4, w, h, 3});
-  KeyframeHandoff handoff(2, 1024);
+constexpr int kW = 64, kH = 48;
+const PinholeCamera kCamera{kW, kH, 60.0, 60.0, 31.5, 23.5};
+
+/// The keyframe's own points only, as they were inserted: no far field, no see-through
+/// pruning, no moving mask, no iteration.
+config::MappingSettings insertion_only_settings() {
   config::MappingSettings s;
-  s.far_field.depth_m = 0.0;  // only the keyframe's own points
+  s.far_field.depth_m = 0.0;
   s.see_through.enabled = false;
   s.moving_mask.enabled = false;
-  s.iterations_per_tick = 0;  // the inserted Gaussians as they were inserted
+  s.iterations_per_tick = 0;
   s.threads = 1;
-  LiveMapper mapper(s, camera, 0.001f, pool, handoff, rt::ThreadSpec{.name = "mapper_w1"}, stride);
+  return s;
+}
+
+/// A sample of a wall 2 m ahead at pixel (u, v) of kCamera, with a flat kNN covariance.
+void add_wall_sample(tracking::Keyframe& kf, int u, int v, std::uint8_t grey) {
+  const float z = 2.0f;
+  kf.cloud_c.points_m.emplace_back((u - 31.5f) * z / 60.0f, (v - 23.5f) * z / 60.0f, z);
+  kf.cloud_c.cov_raw_m2.push_back(Eigen::Vector3f(1e-3f, 1e-3f, 1e-7f).asDiagonal());
+  kf.cloud_c.cov_m2.push_back(Eigen::Matrix3f::Identity());
+  kf.cloud_c.colors_rgb.push_back({grey, grey, grey});
+}
+
+/// A live mapper on kCamera (tracker stride 4) with insertion_only_settings().
+class LiveMapperInsertion : public ::testing::Test {
+ protected:
+  static constexpr int stride = 4;
+  const config::MappingSettings s = insertion_only_settings();
+  rt::FramePool pool{rt::FramePoolSettings{4, kW, kH, 3}};
+  KeyframeHandoff handoff{2, 1024};
+  LiveMapper mapper{s, kCamera, 0.001f, pool, handoff, rt::ThreadSpec{.name = "mapper_w1"}, stride};
+};
+
+TEST_F(LiveMapperInsertion, KeyframePointsGetFootprintSizedGaussians) {
+  const int w = kW, h = kH;
+  const PinholeCamera& camera = kCamera;
 
   // a wall 2 m ahead, sampled every `stride` pixels, with a flat kNN covariance
   const rt::FrameHandle fh = pool.acquire();
@@ -39,15 +65,7 @@ TEST(LiveMapperInsertion, KeyframePointsGetFootprintSizedGaussians) {
   ASSERT_NE(slot, nullptr);
   slot->keyframe = tracking::Keyframe{};
   for (int v = stride / 2; v < h; v += stride)
-    for (int u = stride / 2; u < w; u += stride) {
-      const float z = 2.0f;
-      slot->keyframe.cloud_c.points_m.emplace_back((u - 31.5f) * z / 60.0f, (v - 23.5f) * z / 60.0f,
-                                                   z);
-      slot->keyframe.cloud_c.cov_raw_m2.push_back(
-          Eigen::Vector3f(1e-3f, 1e-3f, 1e-7f).asDiagonal());
-      slot->keyframe.cloud_c.cov_m2.push_back(Eigen::Matrix3f::Identity());
-      slot->keyframe.cloud_c.colors_rgb.push_back({128, 128, 128});
-    }
+    for (int u = stride / 2; u < w; u += stride) add_wall_sample(slot->keyframe, u, v, 128);
   slot->frame = fh;
   handoff.publish(slot);
   mapper.tick();
@@ -70,19 +88,8 @@ TEST(LiveMapperInsertion, KeyframePointsGetFootprintSizedGaussians) {
 // Every Gaussian of the live map takes its patch's mean colour, as the replay's do
 // (pipeline/mapper_keyframe.hpp): on stripes one pixel wide, the colour of the one pixel a
 // sample falls on (what the live mapper once inserted) is 0 or 200, the patch mean in between.
-TEST(LiveMapperInsertion, KeyframeGaussiansTakeTheirPatchMeanColour) {
-  const int w = 64, h = 48, stride = 4;
-  const PinholeCamera camera{w, h, 60.0, 60.0, 31.5, 23.5};
-  rt::FramePool pool(rt::FramePoolSettings{4, w, h, 3});
-  KeyframeHandoff handoff(2, 1024);
-  config::MappingSettings s;
-  s.far_field.depth_m = 0.0;
-  s.see_through.enabled = false;
-  s.moving_mask.enabled = false;
-  s.iterations_per_tick = 0;
-  s.threads = 1;
-  LiveMapper mapper(s, camera, 0.001f, pool, handoff, rt::ThreadSpec{.name = "mapper_w1"}, stride);
-
+TEST_F(LiveMapperInsertion, KeyframeGaussiansTakeTheirPatchMeanColour) {
+  const int w = kW, h = kH;
   const rt::FrameHandle fh = pool.acquire();
   ASSERT_TRUE(fh.valid());
   rt::Frame& f = pool.frame(fh);
@@ -99,13 +106,7 @@ TEST(LiveMapperInsertion, KeyframeGaussiansTakeTheirPatchMeanColour) {
   std::vector<int> us;
   for (int v = stride / 2; v < h - stride / 2; v += stride)
     for (int u = stride / 2; u < w - stride / 2; u += stride) {
-      const float z = 2.0f;
-      slot->keyframe.cloud_c.points_m.emplace_back((u - 31.5f) * z / 60.0f, (v - 23.5f) * z / 60.0f,
-                                                   z);
-      slot->keyframe.cloud_c.cov_raw_m2.push_back(
-          Eigen::Vector3f(1e-3f, 1e-3f, 1e-7f).asDiagonal());
-      slot->keyframe.cloud_c.cov_m2.push_back(Eigen::Matrix3f::Identity());
-      slot->keyframe.cloud_c.colors_rgb.push_back({stripe(u), stripe(u), stripe(u)});
+      add_wall_sample(slot->keyframe, u, v, stripe(u));  // the one pixel's colour
       us.push_back(u);
     }
   slot->frame = fh;
