@@ -131,13 +131,29 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   const int n_tiles = tiles_x_ * tiles_y_;
   const std::size_t n = proj_.radius.size();
   tile_offsets_.assign(static_cast<std::size_t>(n_tiles) + 1, 0);
+  // A Gaussian's tiles: those its kernels can blend at all. A pixel contributes only where
+  // sigma = d^T conic d / 2 <= sigma_cut (alpha >= min_alpha, tile_kernels.hpp), and that
+  // ellipse reaches at most sqrt(2 sigma_cut Sigma_xx) across and sqrt(2 sigma_cut Sigma_yy)
+  // down (Sigma = conic^-1), inside the 3-sigma square of the radius. A flat disc seen
+  // obliquely (a corridor's walls and floor) is far narrower along one image axis than the
+  // square, and each tile it leaves costs every pixel of that tile a test in the forward and
+  // backward passes. The render is the same: only tiles where no pixel passes the kernels'
+  // test are left out (1 % and 0.01 px of slack for the kernels' rounding).
   auto rect_of = [&](std::size_t i, int& x0, int& y0, int& x1, int& y1) {
     const T r = T(proj_.radius[i]);
+    T rx = r, ry = r;
+    const T* cn = &proj_.conic[3 * i];
+    const T det = cn[0] * cn[2] - cn[1] * cn[1];
+    if (det > T(0)) {
+      const T cut2 = T(2) * sigma_cutoff(proj_.opacity[i], settings_.min_alpha);
+      rx = std::min(r, std::sqrt(std::max(T(0), cut2 * cn[2] / det)) * T(1.01) + T(0.01));
+      ry = std::min(r, std::sqrt(std::max(T(0), cut2 * cn[0] / det)) * T(1.01) + T(0.01));
+    }
     const T u = proj_.mean2d[2 * i], v = proj_.mean2d[2 * i + 1];
-    x0 = std::max(0, static_cast<int>(std::floor((u - r) / T(kTilePx))));
-    y0 = std::max(0, static_cast<int>(std::floor((v - r) / T(kTilePx))));
-    x1 = std::min(tiles_x_ - 1, static_cast<int>(std::floor((u + r) / T(kTilePx))));
-    y1 = std::min(tiles_y_ - 1, static_cast<int>(std::floor((v + r) / T(kTilePx))));
+    x0 = std::max(0, static_cast<int>(std::floor((u - rx) / T(kTilePx))));
+    y0 = std::max(0, static_cast<int>(std::floor((v - ry) / T(kTilePx))));
+    x1 = std::min(tiles_x_ - 1, static_cast<int>(std::floor((u + rx) / T(kTilePx))));
+    y1 = std::min(tiles_y_ - 1, static_cast<int>(std::floor((v + ry) / T(kTilePx))));
   };
   resize_by_eighths(visible_slot_, n);
   resize_by_eighths(visible_ids_, n);

@@ -19,7 +19,9 @@ RenderCamera identity_camera(int w, int h, double f, double cx, double cy) {
 /// Renders one Gaussian at camera-frame (0, 0, z) whose axes are rotated by theta about the
 /// optical axis and compares every pixel with the closed form
 ///   Sigma_2D = (f/z)^2 R2 diag(sx^2, sy^2) R2^T + 0.3 I,  alpha = min(0.99, o exp(-d^T C d / 2)).
-void check_closed_form(double theta, double sx, double sy, double opacity) {
+/// `tile_pairs`: where given, the Gaussian-tile pairs the render used.
+void check_closed_form(double theta, double sx, double sy, double opacity,
+                       std::size_t* tile_pairs = nullptr) {
   const int W = 64, H = 64;
   const double f = 100, z = 2.0, cx = 31.0, cy = 33.0;
   const RenderCamera cam = identity_camera(W, H, f, cx, cy);
@@ -65,6 +67,7 @@ void check_closed_form(double theta, double sx, double sy, double opacity) {
     }
   }
   EXPECT_GT(lit, 50);
+  if (tile_pairs) *tile_pairs = ras.tile_pairs();
 }
 
 TEST(MappingRender, SingleIsotropicGaussianMatchesClosedForm) {
@@ -74,6 +77,17 @@ TEST(MappingRender, SingleIsotropicGaussianMatchesClosedForm) {
 TEST(MappingRender, SingleRotatedAnisotropicGaussianMatchesClosedForm) {
   // theta = 30 degrees about the optical axis checks the w x y z quaternion order
   check_closed_form(M_PI / 6, 0.2, 0.05, 0.6);
+}
+
+// A flat disc seen edge-on: 20 px across, under a pixel down. Its 3-sigma square covers every
+// tile of the 64x64 view; the pixels it can reach lie in two tile rows, and only those are
+// binned (the render still matches the closed form at every pixel).
+TEST(MappingRender, ANarrowGaussianIsBinnedOnlyIntoTheTilesItReaches) {
+  std::size_t pairs = 0;
+  check_closed_form(0.0, 0.4, 0.01, 0.9, &pairs);
+  EXPECT_EQ(pairs, 8u);                                 // 16 with the square
+  check_closed_form(M_PI / 2, 0.4, 0.01, 0.9, &pairs);  // standing: two tile columns
+  EXPECT_EQ(pairs, 8u);
 }
 
 TEST(MappingRender, OpaqueGaussianClampsAlphaAndStopsEarly) {
