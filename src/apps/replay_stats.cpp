@@ -89,6 +89,7 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
                                       {"view_buffers", m.view_buffers_bytes}};
     s["map_gated_points"] = r.map_gated_points;
     s["map_seen_through_pruned"] = r.map_seen_through_pruned;
+    s["map_refined_closer"] = r.map_refined_closer;
   }
   return s;
 }

@@ -80,6 +80,7 @@ void Mapper::tick() {
     // see-through votes first: what they prune leaves room that this keyframe's points and far
     // field fill at once (the gate's render below no longer shows it)
     prune_seen_through(*kf);
+    refine_closer(*kf);
     const std::vector<char>* keep = nullptr;
     if (map_.size() > 0 && kf->camera.width_px > 0) {
       const RenderCamera gate_camera = s_.gate_half_res ? half_res_camera(kf->camera) : kf->camera;
@@ -141,13 +142,27 @@ void Mapper::prune_seen_through(const MapperKeyframe& kf) {
   const std::size_t condemned = seen_through_.vote(map_, kf.camera, kf.depth_m.data(),
                                                    see_through_keep_, optimizer_.blocks());
   if (condemned == 0) return;
-  inserter_.forget(map_, see_through_keep_);  // not a rebuild: that is O(map) per keyframe
+  mark_removed(see_through_keep_);
+  seen_through_pruned_.add(condemned);
+}
+
+void Mapper::refine_closer(const MapperKeyframe& kf) {
+  if (!(s_.closer_refine.ratio > 0.0) || kf.depth_m.empty() || kf.camera.width_px <= 0) return;
+  const std::size_t condemned =
+      condemn_seen_closer(map_, kf.camera, kf.depth_m.data(), kf.gaussians.sample_angle_rad,
+                          s_.insert, s_.closer_refine, see_through_keep_, optimizer_.blocks());
+  if (condemned == 0) return;
+  mark_removed(see_through_keep_);
+  refined_closer_.add(condemned);
+}
+
+void Mapper::mark_removed(const std::vector<char>& keep) {
+  inserter_.forget(map_, keep);  // not a rebuild: that is O(map) per keyframe
   // Marked removed, not compacted: they leave the render at once, and the optimiser's next
   // prune compacts them out with the map's other thin Gaussians (after_prune() then compacts
   // the see-through counts), instead of an O(map) compaction per keyframe.
-  for (std::size_t i = 0; i < see_through_keep_.size(); ++i)
-    if (!see_through_keep_[i]) map_.opacity_logit[i] = kRemovedLogit;
-  seen_through_pruned_.add(condemned);
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    if (!keep[i]) map_.opacity_logit[i] = kRemovedLogit;
 }
 
 MapperMemory Mapper::memory() const {

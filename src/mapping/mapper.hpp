@@ -14,8 +14,9 @@
 // resolution with mapping.gate_half_res), then inserted;
 // pixels without depth where that render is empty get far Gaussians (far_field.hpp). Before
 // that, the keyframe votes on every Gaussian of the map, and those it and earlier keyframes saw
-// through are pruned (see_through.hpp, mapping.see_through_*), so that the keyframe fills what
-// they leave. A keyframe's depth may mark pixels of
+// through are pruned (see_through.hpp, mapping.see_through_*), and those it sees from much
+// closer than their size stands for are replaced (closer_refine.hpp, mapping.refine_closer_*),
+// so that the keyframe fills what they leave. A keyframe's depth may mark pixels of
 // moving objects with -1 (pipeline/moving_pixels.hpp): neither loss nor far field nor the vote
 // uses them.
 //
@@ -37,6 +38,7 @@
 #include <vector>
 
 #include "core/config/mapping_settings.hpp"
+#include "mapping/closer_refine.hpp"
 #include "mapping/far_field.hpp"
 #include "mapping/half_res_view.hpp"
 #include "mapping/insertion.hpp"
@@ -110,6 +112,8 @@ class Mapper {
   [[nodiscard]] std::uint64_t seen_through_pruned() const noexcept {
     return seen_through_pruned_.get();
   }
+  /// Gaussians replaced because a keyframe saw them from closer (closer_refine.hpp).
+  [[nodiscard]] std::uint64_t refined_closer() const noexcept { return refined_closer_.get(); }
 
  private:
   std::size_t next_view();
@@ -118,6 +122,10 @@ class Mapper {
   void insert_far_field(const MapperKeyframe& kf, bool rendered);
   /// The keyframe's see-through votes; prunes what they condemn.
   void prune_seen_through(const MapperKeyframe& kf);
+  /// Removes what the keyframe sees from much closer than it was inserted for.
+  void refine_closer(const MapperKeyframe& kf);
+  /// Marks the Gaussians with keep[i] == 0 removed and frees their voxels.
+  void mark_removed(const std::vector<char>& keep);
   /// After the optimiser pruned: the occupancy and the see-through counts follow the map.
   void after_prune();
   [[nodiscard]] bool keep_iterating(int done, std::int64_t t0_ns, std::int64_t allowance_ns);
@@ -147,7 +155,7 @@ class Mapper {
   std::vector<char> see_through_keep_;
   std::int64_t carry_ns_ = 0;  ///< <= 0: overrun still to be taken from the next ticks
   rt::SingleWriterCounter ingested_, skipped_, iterations_, coarse_, overruns_, gated_, far_,
-      seen_through_pruned_;
+      seen_through_pruned_, refined_closer_;
 };
 
 }  // namespace vigs::mapping

@@ -406,6 +406,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     r.map_coarse_iterations = static_cast<long>(mapper->mapper().coarse_iterations());
     r.map_s = rt::ns_to_s(mapper->busy_ns());
     r.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
+    r.map_refined_closer = mapper->mapper().refined_closer();
     r.map_budget_ms = cfg.mapping.budget_ms;
     r.map_budget_overruns = mapper->mapper().budget_overruns();
     r.map_memory = mapper->mapper().memory();

@@ -249,6 +249,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     result.map_bytes_per_gaussian = result.map_memory.bytes_per_gaussian();
     result.map_gated_points = mapper->mapper().gated_points();
     result.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
+    result.map_refined_closer = mapper->mapper().refined_closer();
   }
   result.wall_s = seconds_since(t0);
   return result;

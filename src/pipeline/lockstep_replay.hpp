@@ -114,6 +114,7 @@ struct ReplayResult {
   mapping::MapperMemory map_memory;           ///< the mapper's memory by owner at the end
   std::uint64_t map_gated_points = 0;         ///< keyframe points the map already rendered
   std::uint64_t map_seen_through_pruned = 0;  ///< Gaussians later keyframes saw through
+  std::uint64_t map_refined_closer = 0;       ///< Gaussians replaced when seen from closer
   /// tracking.loop_closure: `frames` hold the loop-corrected poses, `frames_odometry` the
   /// poses as the odometry tracked them (same order); `loop` what the loop closer did.
   std::optional<tracking::LoopClosureStats> loop;

@@ -62,6 +62,14 @@ struct SeeThroughSettings {
   bool missing_far = true;     ///< a pixel without depth is beyond the range (far), not unknown
 };
 
+/// mapping::CloserRefineSettings (mapping/closer_refine.hpp says the rule): Gaussians that a
+/// keyframe sees on its measured surface from much closer than their size stands for are
+/// replaced by the keyframe's finer samples.
+struct CloserRefineSettings {
+  double ratio = 2.0;       ///< replaced when larger than ratio x the keyframe's sample; 0 = off
+  double depth_rel = 0.05;  ///< on the measured surface: |d - z| <= this x d; not in the file
+};
+
 /// Pixels of the points the tracker flagged moving (pipeline/moving_pixels.hpp): masked out of
 /// the keyframe's training view (depth -1: neither colour nor depth is a target).
 struct MovingMaskSettings {

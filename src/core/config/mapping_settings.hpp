@@ -7,8 +7,8 @@ namespace vigs::config {
 /// Gaussian-splatting map: loss weights, Adam learning rates (GS-ICP SLAM defaults), pruning,
 /// insertion, the far field, people out of the map (moving mask, see-through pruning) and the
 /// mapper task's schedule. The components' parts (loss, adam, prune, insert, far_field,
-/// see_through, moving_mask) are declared with their defaults in mapping_components.hpp; their docs
-/// are here.
+/// see_through, closer_refine, moving_mask) are declared with their defaults in
+/// mapping_components.hpp; their docs are here.
 struct MappingSettings {
   LossSettings loss;
   AdamSettings adam;
@@ -17,6 +17,7 @@ struct MappingSettings {
   InsertSettings insert;
   FarFieldSettings far_field;
   SeeThroughSettings see_through;
+  CloserRefineSettings closer_refine;
   MovingMaskSettings moving_mask;
   int threads = 2;
   double rate_hz = 10.0;
@@ -82,6 +83,12 @@ struct MappingSettings {
     v.field("see_through_missing_far", see_through.missing_far,
             "for the see-through vote a pixel without depth is beyond the depth range (a "
             "corridor's end, as the far field takes it); off: such pixels do not vote");
+    v.field("refine_closer_ratio", closer_refine.ratio,
+            {"-", 0.0, 100.0,
+             "a Gaussian that a keyframe sees on its measured surface, whole, from closer than "
+             "its size stands for (its in-plane standard deviation above this times the "
+             "keyframe's own sample's there) is replaced by the keyframe's finer samples; 0 = "
+             "off"});
     v.field("moving_mask", moving_mask.enabled,
             "pixels of the points the tracker flagged moving are neither colour nor depth "
             "targets of the keyframe's training view, nor far field");
