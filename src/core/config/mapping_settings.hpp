@@ -20,7 +20,7 @@ struct MappingSettings {
   CloserRefineSettings closer_refine;
   MovingMaskSettings moving_mask;
   int threads = 2;
-  double rate_hz = 10.0;
+  double rate_hz = 200.0;  ///< a busy mapper's ticks are longer: back to back
   int iterations_per_tick = 1;
   int coarse_iterations = 4;   ///< mapping/half_res_view.hpp
   bool gate_half_res = false;  ///< the insertion gate's render at half resolution
@@ -95,7 +95,12 @@ struct MappingSettings {
     v.field("moving_mask_dilation_px", moving_mask.dilation_px,
             {"px", 0, 64, "the mask covers each moving point's pixel-stride block plus this"});
     v.field("threads", threads, {"threads", 1, 64, "rasterizer worker threads"});
-    v.field("rate_hz", rate_hz, {"Hz", 0.1, 1000.0, "mapper task rate"});
+    v.field("rate_hz", rate_hz,
+            {"Hz", 0.1, 1000.0,
+             "mapper task rate; a tick longer than the period starts the next at the following "
+             "deadline, so at the default 200 Hz a mapper with keyframes runs back to back (its "
+             "iterations take tens of ms) on whatever CPU the SCHED_FIFO threads leave (it is "
+             "SCHED_IDLE), and one without polls every 5 ms"});
     v.field("iterations_per_tick", iterations_per_tick,
             {"iterations", 1, 1000, "optimisation iterations per mapper tick when budget_ms is 0"});
     v.field("coarse_iterations", coarse_iterations,
