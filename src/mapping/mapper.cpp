@@ -139,10 +139,10 @@ void Mapper::after_prune() {
 
 void Mapper::prune_seen_through(const MapperKeyframe& kf) {
   if (!s_.see_through.enabled || kf.depth_m.empty() || kf.camera.width_px <= 0) return;
-  const std::size_t condemned = seen_through_.vote(map_, kf.camera, kf.depth_m.data(),
-                                                   see_through_keep_, optimizer_.blocks());
+  const std::size_t condemned =
+      seen_through_.vote(map_, kf.camera, kf.depth_m.data(), removal_keep_, optimizer_.blocks());
   if (condemned == 0) return;
-  mark_removed(see_through_keep_);
+  mark_removed(removal_keep_);
   seen_through_pruned_.add(condemned);
 }
 
@@ -150,9 +150,9 @@ void Mapper::refine_closer(const MapperKeyframe& kf) {
   if (!(s_.closer_refine.ratio > 0.0) || kf.depth_m.empty() || kf.camera.width_px <= 0) return;
   const std::size_t condemned =
       condemn_seen_closer(map_, kf.camera, kf.depth_m.data(), kf.gaussians.sample_angle_rad,
-                          s_.insert, s_.closer_refine, see_through_keep_, optimizer_.blocks());
+                          s_.insert, s_.closer_refine, removal_keep_, optimizer_.blocks());
   if (condemned == 0) return;
-  mark_removed(see_through_keep_);
+  mark_removed(removal_keep_);
   refined_closer_.add(condemned);
 }
 
@@ -172,7 +172,7 @@ MapperMemory Mapper::memory() const {
   m.adam_moments_bytes = optimizer_.moment_bytes();
   m.optimizer_buffers_bytes = optimizer_.buffer_bytes();
   m.occupancy_bytes = inserter_.occupancy_bytes();
-  m.see_through_bytes = seen_through_.bytes() + capacity_bytes(see_through_keep_);
+  m.see_through_bytes = seen_through_.bytes() + capacity_bytes(removal_keep_);
   m.keyframes_bytes = capacity_bytes(keyframes_) + capacity_bytes(round_);
   for (const auto& kf : keyframes_) {
     const KeyframeGaussians& g = kf->gaussians;

@@ -15,7 +15,7 @@
 // pixels without depth where that render is empty get far Gaussians (far_field.hpp). Before
 // that, the keyframe votes on every Gaussian of the map, and those it and earlier keyframes saw
 // through are pruned (see_through.hpp, mapping.see_through_*), and those it sees from much
-// closer than their size stands for are replaced (closer_refine.hpp, mapping.refine_closer_*),
+// closer than their size stands for are replaced (closer_refine.hpp, mapping.refine_closer_ratio),
 // so that the keyframe fills what they leave. A keyframe's depth may mark pixels of
 // moving objects with -1 (pipeline/moving_pixels.hpp): neither loss nor far field nor the vote
 // uses them.
@@ -152,8 +152,8 @@ class Mapper {
   RenderResult<float> gate_render_;
   std::vector<char> gate_keep_;
   SeeThrough seen_through_;
-  std::vector<char> see_through_keep_;
-  std::int64_t carry_ns_ = 0;  ///< <= 0: overrun still to be taken from the next ticks
+  std::vector<char> removal_keep_;  ///< see-through votes and closer refinement: 0 = remove
+  std::int64_t carry_ns_ = 0;       ///< <= 0: overrun still to be taken from the next ticks
   rt::SingleWriterCounter ingested_, skipped_, iterations_, coarse_, overruns_, gated_, far_,
       seen_through_pruned_, refined_closer_;
 };

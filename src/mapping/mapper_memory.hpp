@@ -22,7 +22,7 @@ struct MapperMemory {
   std::size_t optimizer_buffers_bytes = 0;
   /// GaussianInserter's voxel set: bucket array plus one node (next pointer + key) per voxel.
   std::size_t occupancy_bytes = 0;
-  std::size_t see_through_bytes = 0;   ///< vote counts, far flags and the vote's keep mask
+  std::size_t see_through_bytes = 0;   ///< vote counts, far flags and the removal keep mask
   std::size_t keyframes_bytes = 0;     ///< held keyframes: images, depth, points not yet inserted
   std::size_t snapshot_bytes = 0;      ///< the last published snapshot (0 when none)
   std::size_t view_buffers_bytes = 0;  ///< per-pixel: renders, loss gradients, gate mask
