@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mapping/raster_settings.hpp"
-
 namespace vigs::mapping {
 
 namespace {
@@ -60,18 +58,11 @@ std::size_t condemn_seen_closer(const GaussianMap& map, const RenderCamera& cam,
   if (!(s.ratio > 0.0) || !(sample_angle_rad > 0.0) || !depth_m || cam.width_px < 1 ||
       cam.height_px < 1)
     return 0;
-  if (!blocks) return condemn_range(map, cam, depth_m, sample_angle_rad, insert, s, 0, n, keep);
-  // The blocks' cull keeps every block with a mean inside the image in front of the camera,
-  // which is all this rule looks at (its centres are inside the image; z > 1 mm: near plane 0).
-  RasterSettings rs;
-  rs.near_m = 0.0;
-  blocks->update(map);
+  // the rule looks only at means inside the image in front of the camera (z > 1 mm)
   std::size_t condemned = 0;
-  for (std::size_t b = 0; b < blocks->blocks(); ++b) {
-    if (!blocks->may_be_visible(b, cam, rs)) continue;
-    const auto [lo, hi] = blocks->range(b);
+  for_ranges_in_view(map, cam, blocks, [&](std::size_t lo, std::size_t hi) {
     condemned += condemn_range(map, cam, depth_m, sample_angle_rad, insert, s, lo, hi, keep);
-  }
+  });
   return condemned;
 }
 

@@ -63,4 +63,26 @@ class MapBlocks {
   bool any_dirty_ = false;
 };
 
+/// Runs fn(begin, end) over the Gaussians of `map` whose mean may lie in front of `cam` (z > 0)
+/// and inside its image: with `blocks` (brought up to date with `map` here) only the blocks whose
+/// bound allows that, without them all of [0, map.size()). For rules that look only at the pixel
+/// of a Gaussian's mean (see_through.hpp, closer_refine.hpp): the blocks' cull is the
+/// rasterizer's, which keeps every block with such a mean, so the result is the same.
+template <class Fn>
+void for_ranges_in_view(const GaussianMap& map, const RenderCamera& cam, MapBlocks* blocks,
+                        Fn&& fn) {
+  if (!blocks) {
+    fn(std::size_t{0}, map.size());
+    return;
+  }
+  RasterSettings rs;
+  rs.near_m = 0.0;
+  blocks->update(map);
+  for (std::size_t b = 0; b < blocks->blocks(); ++b) {
+    if (!blocks->may_be_visible(b, cam, rs)) continue;
+    const auto [lo, hi] = blocks->range(b);
+    fn(lo, hi);
+  }
+}
+
 }  // namespace vigs::mapping

@@ -29,18 +29,11 @@ std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, co
   far_.resize(n, 0);
   keep.assign(n, 1);
   if (!depth_m || cam.width_px < 3 || cam.height_px < 3) return 0;
-  if (!blocks) return vote_range(map, cam, depth_m, 0, n, keep);
-  // The blocks' cull is the rasterizer's bound: it keeps every block with a mean inside the
-  // image in front of the camera, which is all this vote looks at (z > 1 mm: near plane 0).
-  RasterSettings rs;
-  rs.near_m = 0.0;
-  blocks->update(map);
+  // the vote looks only at means inside the image in front of the camera (z > 1 mm)
   std::size_t pruned = 0;
-  for (std::size_t b = 0; b < blocks->blocks(); ++b) {
-    if (!blocks->may_be_visible(b, cam, rs)) continue;
-    const auto [lo, hi] = blocks->range(b);
+  for_ranges_in_view(map, cam, blocks, [&](std::size_t lo, std::size_t hi) {
     pruned += vote_range(map, cam, depth_m, lo, hi, keep);
-  }
+  });
   return pruned;
 }
 
