@@ -13,6 +13,7 @@
 #include "mapping/mapper.hpp"
 #include "mapping/rasterizer.hpp"
 #include "mapping/rgbd_keyframe.hpp"
+#include "office_frames.hpp"
 #include "sim/simulator.hpp"
 
 namespace vigs::mapping {
@@ -111,14 +112,7 @@ namespace {
 class CloserRefineOffice : public ::testing::Test {
  protected:
   void SetUp() override {
-    cfg_.camera.width_px = 360;
-    cfg_.camera.height_px = 240;
-    cfg_.camera.fx_px = cfg_.camera.fy_px = 415.69219381653056 / 2.0;
-    cfg_.camera.cx_px = 180.0;
-    cfg_.camera.cy_px = 120.0;
-    cfg_.sim.preset = "office";
-    cfg_.sim.humans = 0;
-    cfg_.sim.seconds = 8.0;
+    cfg_ = test::half_res_office(8.0);
     sim_ = std::make_unique<sim::Simulator>(cfg_);
   }
 
@@ -167,18 +161,8 @@ class CloserRefineOffice : public ::testing::Test {
     Rasterizer<float> ras;
     RenderResult<float> r;
     ras.forward(mapper.map(), last, r);
-    double se = 0;
-    std::size_t n = 0;
-    for (std::size_t p = 0; p < f.depth_m.size(); ++p) {
-      if (!(f.depth_m[p] > 0)) continue;
-      for (int c = 0; c < 3; ++c) {
-        const double v = std::round(255.0 * std::clamp(r.color[3 * p + c], 0.0f, 1.0f));
-        se += (v - f.color[3 * p + c]) * (v - f.color[3 * p + c]);
-      }
-      n += 3;
-    }
     Result out;
-    out.psnr_db = 10.0 * std::log10(255.0 * 255.0 * static_cast<double>(n) / se);
+    out.psnr_db = test::psnr_of(r, f).valid_depth_db;
     for (std::size_t i = 0; i < mapper.map().size(); ++i)
       out.gaussians += mapper.map().opacity_logit[i] > kRemovedLogit ? 1 : 0;
     out.refined = mapper.refined_closer();

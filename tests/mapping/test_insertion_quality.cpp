@@ -13,50 +13,19 @@
 #include "mapping/insertion_gate.hpp"
 #include "mapping/rasterizer.hpp"
 #include "mapping/rgbd_keyframe.hpp"
+#include "office_frames.hpp"
 #include "sim/simulator.hpp"
 
 namespace vigs::mapping {
 namespace {
 
-struct Psnr {
-  double whole_db = 0, valid_depth_db = 0;
-};
-
-/// PSNR (8-bit, peak 255) of the render against the frame over every pixel and over the
-/// pixels with a depth measurement.
-Psnr psnr_of(const RenderResult<float>& r, const sim::RgbdFrame& f) {
-  double se_all = 0, se_valid = 0;
-  std::size_t n_valid = 0;
-  const std::size_t np = f.depth_m.size();
-  for (std::size_t p = 0; p < np; ++p) {
-    double se = 0;
-    for (int c = 0; c < 3; ++c) {
-      const double v = std::round(255.0 * std::clamp(r.color[3 * p + c], 0.0f, 1.0f));
-      const double d = v - f.color[3 * p + c];
-      se += d * d;
-    }
-    se_all += se;
-    if (f.depth_m[p] > 0) {
-      se_valid += se;
-      ++n_valid;
-    }
-  }
-  const auto db = [](double se, double n) { return 10.0 * std::log10(255.0 * 255.0 / (se / n)); };
-  return {db(se_all, 3.0 * static_cast<double>(np)),
-          db(se_valid, 3.0 * static_cast<double>(n_valid))};
-}
+using test::Psnr;
+using test::psnr_of;
 
 class InsertionQuality : public ::testing::Test {
  protected:
   void SetUp() override {
-    cfg_.camera.width_px = 360;
-    cfg_.camera.height_px = 240;
-    cfg_.camera.fx_px = cfg_.camera.fy_px = 415.69219381653056 / 2.0;
-    cfg_.camera.cx_px = 180.0;
-    cfg_.camera.cy_px = 120.0;
-    cfg_.sim.preset = "office";
-    cfg_.sim.humans = 0;
-    cfg_.sim.seconds = 6.0;
+    cfg_ = test::half_res_office(6.0);
     sim_ = std::make_unique<sim::Simulator>(cfg_);
     sim_->render_at(4.0, 80, frame_);
     T_w_c_ = sim_->camera_pose(4.0);
