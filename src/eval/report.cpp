@@ -336,6 +336,16 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
     s["frames_with_depth"] = q.psnr_valid_depth_db.size();
     s["psnr_valid_depth_db"] = io::finite_or_null(q.mean_psnr_valid_depth_db());
     s["ssim_valid_depth"] = io::finite_or_null(q.mean_ssim_valid_depth());
+    // Per frame, in time order: where along the run the map renders well or badly (a drift
+    // seen on a revisit, an area trained less). Whole frame only; the valid-depth means above.
+    io::Json t = io::Json::array(), psnr = io::Json::array(), ssim = io::Json::array();
+    for (std::size_t i = 0; i < q.frames(); ++i) {
+      t.push_back(io::fixed(q.t_s[i], 3));
+      psnr.push_back(std::isfinite(q.psnr_db[i]) ? io::fixed(q.psnr_db[i], 3) : io::Json(nullptr));
+      ssim.push_back(std::isfinite(q.ssim[i]) ? io::fixed(q.ssim[i], 4) : io::Json(nullptr));
+    }
+    s["per_frame"] =
+        io::Json{{"t_s", std::move(t)}, {"psnr_db", std::move(psnr)}, {"ssim", std::move(ssim)}};
     return s;
   };
   j["plots"] = r.plots;

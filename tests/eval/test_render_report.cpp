@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -211,6 +212,17 @@ TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
   EXPECT_GT(good.quality.every_nth.mean_psnr_valid_depth_db(),
             bad.quality.every_nth.mean_psnr_valid_depth_db() + 3.0);
   EXPECT_LE(good.quality.every_nth.mean_ssim(), 1.0);
+
+  // The JSON summary lists the held-out frames one by one, in the set's order.
+  const auto j = nlohmann::json::parse(report_json(good, options(dir_, pipeline::kTrajectoryFile)));
+  const auto& per_frame = j.at("quality").at("held_out").at("per_frame");
+  ASSERT_EQ(per_frame.at("psnr_db").size(), 6u);
+  ASSERT_EQ(per_frame.at("t_s").size(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_NEAR(per_frame["t_s"][i].get<double>(), good.quality.held_out.t_s[i], 1e-3);
+    EXPECT_NEAR(per_frame["psnr_db"][i].get<double>(), good.quality.held_out.psnr_db[i], 1e-3);
+    EXPECT_NEAR(per_frame["ssim"][i].get<double>(), good.quality.held_out.ssim[i], 1e-4);
+  }
 
   // The report states the numbers it measured.
   EXPECT_NE(md.find("## Rendering quality (PSNR, SSIM)"), std::string::npos) << md;
