@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/capacity_bytes.hpp"
+#include "core/grow_by_eighths.hpp"
 #include "rt/clock.hpp"
 #include "rt/queue_policy.hpp"
 
@@ -92,6 +93,10 @@ void Mapper::tick() {
     }
     inserter_.insert(map_, kf->gaussians, keep);
     insert_far_field(*kf, keep != nullptr);
+    const std::size_t first_new = anchor_.size();
+    resize_by_eighths(anchor_, map_.size());  // capacity as the map's arrays grow
+    std::fill(anchor_.begin() + static_cast<std::ptrdiff_t>(first_new), anchor_.end(),
+              static_cast<std::uint32_t>(kf->id));
     kf->gaussians = KeyframeGaussians{};  // points are in the map now; keep only the view
     if (s_.coarse_iterations > 0 && kf->camera.width_px >= 2 && !kf->rgb.empty())
       make_half_res_view(kf->camera, kf->rgb.data(),
@@ -134,6 +139,11 @@ namespace vigs::mapping {
 
 void Mapper::after_prune() {
   inserter_.rebuild(map_);
+  const std::vector<char>& keep = optimizer_.last_prune_keep();
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < anchor_.size(); ++i)
+    if (keep[i]) anchor_[out++] = anchor_[i];
+  anchor_.resize(out);
   if (s_.see_through.enabled) seen_through_.compact(optimizer_.last_prune_keep());
 }
 
@@ -165,10 +175,28 @@ void Mapper::mark_removed(const std::vector<char>& keep) {
     if (!keep[i]) map_.opacity_logit[i] = kRemovedLogit;
 }
 
+std::size_t Mapper::move_keyframes(const std::vector<KeyframeCorrection>& corrections) {
+  if (corrections.empty()) return 0;
+  const std::size_t moved = move_anchored(map_, anchor_, corrections);
+  for (const auto& kf : keyframes_) {
+    for (const KeyframeCorrection& c : corrections) {
+      if (c.id != kf->id) continue;
+      move_camera(kf->camera, c.T_new_old);
+      move_camera(kf->half.camera, c.T_new_old);
+    }
+  }
+  // what depends on where the Gaussians are: the insertion occupancy and the block bounds
+  // (Adam's moments stay: a rigid motion of a few centimetres leaves their scale as it was)
+  inserter_.rebuild(map_);
+  if (MapBlocks* b = optimizer_.blocks()) b->invalidate();
+  moved_.add(moved);
+  return moved;
+}
+
 MapperMemory Mapper::memory() const {
   MapperMemory m;
   m.gaussians = map_.size();
-  m.map_params_bytes = map_.capacity_bytes();
+  m.map_params_bytes = map_.capacity_bytes() + capacity_bytes(anchor_);
   m.adam_moments_bytes = optimizer_.moment_bytes();
   m.optimizer_buffers_bytes = optimizer_.buffer_bytes();
   m.occupancy_bytes = inserter_.occupancy_bytes();

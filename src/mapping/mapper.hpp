@@ -27,6 +27,9 @@
 // Keyframe queue policy (see rt/spsc_ring.hpp): at most `max_pending` unprocessed keyframes are
 // kept; older extra ones are skipped and counted (skipped_keyframes). A keyframe with
 // end_of_stream set ends the stream; the mapper then keeps optimising until stopped.
+// Loop closure: every Gaussian remembers the keyframe that inserted it (its id), and
+// move_keyframes() moves each keyframe's Gaussians and training view with a correction of its
+// pose (keyframe_correction.hpp), so that the map follows the loop closer's solved trajectory.
 // Snapshots: request_snapshot() (any thread) asks for a copy; the mapper publishes it at the end
 // of its next tick through an atomic shared pointer, so an exporter never holds anything the
 // mapper waits for.
@@ -43,6 +46,7 @@
 #include "mapping/half_res_view.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/insertion_gate.hpp"
+#include "mapping/keyframe_correction.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/mapper_memory.hpp"
 #include "mapping/see_through.hpp"
@@ -86,6 +90,13 @@ class Mapper {
   }
 
   [[nodiscard]] const GaussianMap& map() const { return map_; }  ///< mapper thread only
+  /// The id of the keyframe that inserted each Gaussian of map(); mapper thread only.
+  [[nodiscard]] const std::vector<std::uint32_t>& anchors() const { return anchor_; }
+
+  /// Moves the Gaussians each listed keyframe inserted, and its training view if still held,
+  /// by the keyframe's correction (ids unique). Mapper thread only (between ticks), or after
+  /// it stopped. Returns the Gaussians moved.
+  std::size_t move_keyframes(const std::vector<KeyframeCorrection>& corrections);
   /// Bytes held by the mapper, by owner (mapper_memory.hpp); mapper thread only (or after it
   /// stopped).
   [[nodiscard]] MapperMemory memory() const;
@@ -114,6 +125,8 @@ class Mapper {
   }
   /// Gaussians replaced because a keyframe saw them from closer (closer_refine.hpp).
   [[nodiscard]] std::uint64_t refined_closer() const noexcept { return refined_closer_.get(); }
+  /// Gaussians moved by move_keyframes() (a Gaussian moved by two closures counts twice).
+  [[nodiscard]] std::uint64_t moved_by_corrections() const noexcept { return moved_.get(); }
 
  private:
   std::size_t next_view();
@@ -134,6 +147,7 @@ class Mapper {
   KeyframeRing& ring_;
   std::size_t max_pending_, max_keyframes_;
   GaussianMap map_;
+  std::vector<std::uint32_t> anchor_;  ///< per Gaussian: MapperKeyframe::id that inserted it
   GaussianInserter inserter_;
   MapOptimizer optimizer_;
   std::vector<std::unique_ptr<MapperKeyframe>> keyframes_;  ///< oldest first
@@ -155,7 +169,7 @@ class Mapper {
   std::vector<char> removal_keep_;  ///< see-through votes and closer refinement: 0 = remove
   std::int64_t carry_ns_ = 0;       ///< <= 0: overrun still to be taken from the next ticks
   rt::SingleWriterCounter ingested_, skipped_, iterations_, coarse_, overruns_, gated_, far_,
-      seen_through_pruned_, refined_closer_;
+      seen_through_pruned_, refined_closer_, moved_;
 };
 
 }  // namespace vigs::mapping

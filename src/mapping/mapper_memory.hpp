@@ -15,7 +15,7 @@ namespace vigs::mapping {
 
 struct MapperMemory {
   std::size_t gaussians = 0;           ///< map size when measured
-  std::size_t map_params_bytes = 0;    ///< GaussianMap parameter arrays
+  std::size_t map_params_bytes = 0;    ///< GaussianMap parameter arrays and their anchors
   std::size_t adam_moments_bytes = 0;  ///< Adam first and second moments
   /// The optimiser's rasterizer caches: projection, tile lists, per-thread gradient buffers
   /// (not the per-thread tile scratch), and the optimiser's prune mask.

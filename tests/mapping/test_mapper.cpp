@@ -3,6 +3,7 @@
 // by owner.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -151,6 +152,74 @@ TEST(MappingMapper, IngestsNewestFirstAndLowersTheLoss) {
   mapper.tick();
   ASSERT_NE(mapper.snapshot(), nullptr);
   EXPECT_EQ(mapper.snapshot()->size(), mapper.map().size());
+}
+
+// Each Gaussian remembers the keyframe that inserted it, through the optimiser's pruning, and
+// move_keyframes() moves exactly those Gaussians and that keyframe's training view.
+TEST(MappingMapper, GaussiansKeepTheirKeyframeThroughPruningAndMoveWithIt) {
+  const GaussianMap truth = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
+  config::MappingSettings s = test_settings();
+  s.adam.lr_mean = s.adam.lr_log_scale = s.adam.lr_quat = s.adam.lr_opacity = s.adam.lr_color =
+      0.0;  // nothing moves but what is pruned: survivors are found by their means below
+  // Two keyframes, the second far off to the side (points the first did not insert); every
+  // third point of each twice as wide, so that a prune at 0.15 m removes some of each.
+  const auto keyframes = [&](KeyframeRing& ring) {
+    for (const std::uint64_t id : {5, 9}) {
+      auto kf = make_keyframe(truth, id);
+      for (std::size_t i = 0; i < kf->gaussians.points_c.size(); ++i) {
+        if (id == 9) kf->gaussians.points_c[i].x() += 0.4f;
+        if (i % 3 == 0) kf->gaussians.covariances_c[i] *= 4.0f;
+      }
+      ASSERT_TRUE(ring.try_push(std::move(kf)));
+    }
+  };
+  KeyframeRing ring(8);
+  Mapper mapper(s, ring, nullptr);  // prune at 0.5 m: none
+  keyframes(ring);
+  mapper.tick();
+  const GaussianMap before = mapper.map();
+  const std::vector<std::uint32_t> anchors_before = mapper.anchors();
+  ASSERT_EQ(anchors_before.size(), before.size());
+  std::size_t of_5 = 0, of_9 = 0;
+  for (std::uint32_t a : anchors_before) (a == 5 ? of_5 : of_9) += 1;
+  EXPECT_GT(of_5, 10u);
+  EXPECT_GT(of_9, 10u);
+  EXPECT_EQ(of_5 + of_9, before.size());
+
+  s.prune.max_scale_m = 0.15;
+  s.prune_every = 1;
+  KeyframeRing ring2(8);
+  Mapper pruned(s, ring2, nullptr);
+  keyframes(ring2);
+  pruned.tick();
+  const GaussianMap& m = pruned.map();
+  ASSERT_LT(m.size(), before.size() * 9 / 10);
+  ASSERT_GT(m.size(), before.size() / 2);
+  ASSERT_EQ(pruned.anchors().size(), m.size());
+  std::size_t survivors_of_9 = 0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    std::size_t j = 0;
+    while (j < before.size() && !(before.mean_w[3 * j] == m.mean_w[3 * i] &&
+                                  before.mean_w[3 * j + 1] == m.mean_w[3 * i + 1] &&
+                                  before.mean_w[3 * j + 2] == m.mean_w[3 * i + 2]))
+      ++j;
+    ASSERT_LT(j, before.size()) << i;
+    EXPECT_EQ(pruned.anchors()[i], anchors_before[j]) << i;
+    survivors_of_9 += pruned.anchors()[i] == 9;
+  }
+  EXPECT_GT(survivors_of_9, 0u);
+  EXPECT_LT(survivors_of_9, of_9);
+
+  // keyframe 9 moves 0.5 m along z: its Gaussians and nothing else
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.0, 0.0, 0.5);
+  const GaussianMap unmoved = mapper.map();
+  EXPECT_EQ(mapper.move_keyframes({{9, T}}), of_9);
+  EXPECT_EQ(mapper.moved_by_corrections(), of_9);
+  for (std::size_t i = 0; i < unmoved.size(); ++i) {
+    const float dz = mapper.map().mean_w[3 * i + 2] - unmoved.mean_w[3 * i + 2];
+    EXPECT_NEAR(dz, mapper.anchors()[i] == 9 ? 0.5f : 0.0f, 1e-5f) << i;
+  }
 }
 
 /// Mean absolute colour error of the mapper's map rendered at a keyframe's full resolution.
