@@ -244,14 +244,9 @@ ReportResult write_report(const ReportOptions& opt) {
   if (opt.plots) r.plots = draw_plots(opt, r, r.warnings);
   std::string map_sections;
   std::vector<std::string> not_measured;
-  // The map is in the odometry's frame: the loop closer corrects the trajectory, not the map
-  // (results_dir.hpp). Views are rendered at the poses as tracked when the run kept them apart.
-  const fs::path odometry_path = fs::path(opt.results_dir) / pipeline::kOdometryTrajectoryFile;
-  const bool render_at_odometry =
-      opt.estimate_name == pipeline::kTrajectoryFile && fs::exists(odometry_path);
-  const Trajectory map_frame_poses =
-      render_at_odometry ? load_trajectory_file(odometry_path.string()) : est;
-  measure_map_and_run(opt, map_frame_poses, r, map_sections, not_measured);
+  // The map follows the loop closer as trajectory.tum does (results_dir.hpp): views are
+  // rendered at the estimate's poses.
+  measure_map_and_run(opt, est, r, map_sections, not_measured);
   if (r.quality_measured && r.quality.damage.damaged() && !r.input_damage.damaged()) {
     r.input_damage = r.quality.damage;
     r.input_damage_used = std::to_string(r.quality.recorded_frames) + " recorded frames";

@@ -27,12 +27,14 @@ LiveMapper::LiveMapper(const config::MappingSettings& s, const PinholeCamera& ca
     config::GicpSetting gicp = loops->gicp;
     gicp.num_threads = 1;  // on this thread only
     loops_ = std::make_unique<tracking::LoopCloser>(loops->loop, gicp);
+    follow_loops_ = s.follow_loop_closures;
   }
 }
 
 void LiveMapper::tick() {
   const std::int64_t t0 = rt::monotonic_ns();
   std::uint32_t index = 0;
+  bool closed = false;
   // At most one slot's worth per tick, so ring_ (twice the slots) never fills.
   for (std::size_t n = 0; n < handoff_.capacity() && !ended() && handoff_.next(index); ++n) {
     if (index == KeyframeHandoff::kEnd) {
@@ -46,19 +48,30 @@ void LiveMapper::tick() {
     ImageF32 depth_m;
     copy_rgb8(view, rgb);
     copy_depth_m(view, depth_m);
+    // with loops: the keyframe is node next_id_ of the closer's graph and goes to the map at
+    // its solved pose
+    geometry::Pose T_w_c_map = slot.keyframe.T_w_c;
+    if (loops_) {
+      closed = loops_->add_keyframe(slot.keyframe, slot.after_restart) || closed;
+      if (follow_loops_) T_w_c_map = map_correction_.place(*loops_, static_cast<int>(next_id_));
+    }
     auto m = make_mapper_keyframe(next_id_++, slot.keyframe, camera_, stride_px_, moving_mask_, rgb,
-                                  std::move(depth_m));
-    if (loops_) loops_->add_keyframe(slot.keyframe, slot.after_restart);
+                                  std::move(depth_m), &T_w_c_map);
     pool_.release(slot.frame);
     slot.frame = rt::FrameHandle{};
     handoff_.give_back(index);
     // The ring holds twice the slots and is drained by every Mapper::tick below.
     (void)ring_.try_push(std::move(m));
   }
-  mapper_->tick();
+  mapper_->tick();  // inserts this tick's keyframes first: a closure below moves them too
+  if (closed && follow_loops_) map_correction_.apply(*loops_, *mapper_);
   gaussians_.store(mapper_->map().size(), std::memory_order_relaxed);
   busy_ns_.store(busy_ns_.load(std::memory_order_relaxed) + rt::monotonic_ns() - t0,
                  std::memory_order_relaxed);
+}
+
+std::size_t LiveMapper::follow_loop_closures() {
+  return loops_ && follow_loops_ ? map_correction_.apply(*loops_, *mapper_) : 0;
 }
 
 }  // namespace vigs::pipeline

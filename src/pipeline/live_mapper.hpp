@@ -7,7 +7,9 @@
 // the frame and the slot, and runs one mapping::Mapper tick of mapping.iterations_per_tick
 // optimisation iterations, or as many as mapping.budget_ms allows when it is > 0 (the
 // Mapper's budgeted tick). The tracker never waits for it except in lockstep, where a keyframe
-// waits for a free slot.
+// waits for a free slot. With tracking.loop_closure the keyframes also go to a LoopCloser, are
+// placed in the map at their solved poses, and the map follows each closure
+// (map_loop_correction.hpp, mapping.follow_loop_closures).
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -17,6 +19,7 @@
 #include "core/types/pinhole_camera.hpp"
 #include "mapping/mapper.hpp"
 #include "pipeline/keyframe_handoff.hpp"
+#include "pipeline/map_loop_correction.hpp"
 #include "rt/frame_pool.hpp"
 #include "rt/worker_team.hpp"
 #include "tracking/loop_closure.hpp"
@@ -45,6 +48,9 @@ class LiveMapper {
   [[nodiscard]] std::size_t gaussians() const noexcept { return gaussians_.load(); }
   /// The loop closer (null when off): mapper thread, or any thread once the task stopped.
   [[nodiscard]] tracking::LoopCloser* loop_closer() { return loops_.get(); }
+  /// After the task stopped and the closer's graph was solved a last time: the map follows it
+  /// (map_loop_correction.hpp). Returns the keyframes moved.
+  std::size_t follow_loop_closures();
 
  private:
   PinholeCamera camera_;
@@ -57,6 +63,8 @@ class LiveMapper {
   mapping::KeyframeRing ring_;
   std::unique_ptr<mapping::Mapper> mapper_;
   std::unique_ptr<tracking::LoopCloser> loops_;
+  MapLoopCorrection map_correction_;
+  bool follow_loops_ = false;  ///< mapping.follow_loop_closures (with loops)
   std::uint64_t next_id_ = 0;
   std::atomic<bool> ended_{false};
   std::atomic<std::int64_t> busy_ns_{0};

@@ -392,6 +392,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   // The poses published live stay as tracked; corrected in the tracker's clock, as its keyframes.
   if (tracking::LoopCloser* lc = mapper ? mapper->loop_closer() : nullptr) {
     apply_loop_closure(*lc, r);
+    mapper->follow_loop_closures();  // the mapper task has stopped; the map follows the graph
   }
   if (replay) {
     // Back to the recording's clock (driver_replay.hpp): the RESULTS_DIR is evaluated in it.
@@ -407,6 +408,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     r.map_s = rt::ns_to_s(mapper->busy_ns());
     r.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
     r.map_refined_closer = mapper->mapper().refined_closer();
+    r.map_moved_by_loops = mapper->mapper().moved_by_corrections();
     r.map_budget_ms = cfg.mapping.budget_ms;
     r.map_budget_overruns = mapper->mapper().budget_overruns();
     r.map_memory = mapper->mapper().memory();

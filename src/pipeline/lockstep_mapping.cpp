@@ -32,7 +32,7 @@ void LockstepMapper::add_keyframe(const tracking::Keyframe& kf, const RgbdView& 
   ImageF32 depth_m;
   copy_rgb8(frame, rgb);
   copy_depth_m(frame, depth_m);
-  add(kf, rgb, std::move(depth_m));
+  add(next_id_++, kf, rgb, std::move(depth_m), nullptr);
 }
 
 void LockstepMapper::keep_frames(int frames) {
@@ -49,19 +49,21 @@ void LockstepMapper::keep_frame(const RgbdView& frame) {
   copy_depth_m(frame, k.depth_m);
 }
 
-bool LockstepMapper::add_keyframe(const tracking::Keyframe& kf) {
+bool LockstepMapper::add_keyframe(const tracking::Keyframe& kf, const geometry::Pose* T_w_c_map) {
+  const std::uint64_t id = next_id_++;
   for (const KeptFrame& k : kept_) {
     if (k.t_ns == kf.t_ns) {
-      add(kf, k.rgb, k.depth_m);
+      add(id, kf, k.rgb, k.depth_m, T_w_c_map);
       return true;
     }
   }
   return false;
 }
 
-void LockstepMapper::add(const tracking::Keyframe& kf, const ImageU8& rgb, ImageF32 depth_m) {
-  auto m = make_mapper_keyframe(next_id_++, kf, camera_, stride_px_, moving_mask_, rgb,
-                                std::move(depth_m));
+void LockstepMapper::add(std::uint64_t id, const tracking::Keyframe& kf, const ImageU8& rgb,
+                         ImageF32 depth_m, const geometry::Pose* T_w_c_map) {
+  auto m = make_mapper_keyframe(id, kf, camera_, stride_px_, moving_mask_, rgb, std::move(depth_m),
+                                T_w_c_map);
   // The ring holds 8 and every step() drains it, so this fails only if step() is not called;
   // the keyframe is then dropped and counted, like any keyframe beyond a queue bound.
   if (!ring_.try_push(std::move(m))) ++dropped_keyframes_;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/config/mapping_settings.hpp"
+#include "core/geometry/se3.hpp"
 #include "core/types/pinhole_camera.hpp"
 #include "core/types/rgbd_view.hpp"
 #include "mapping/mapper.hpp"
@@ -39,12 +40,16 @@ class LockstepMapper {
   void keep_frames(int frames);
   void keep_frame(const RgbdView& frame);
   /// add_keyframe with the kept frame stamped kf.t_ns; false (nothing added) when none is kept.
-  bool add_keyframe(const tracking::Keyframe& kf);
+  /// `T_w_c_map`: where the map places it (the loop-corrected pose); null: kf.T_w_c. Mapper
+  /// ids count every keyframe offered, kept frame or not, so that they are the loop closer's
+  /// node indices (map_loop_correction.hpp).
+  bool add_keyframe(const tracking::Keyframe& kf, const geometry::Pose* T_w_c_map = nullptr);
   /// One mapper tick: ingest, then iterations_per_frame iterations (none before a keyframe).
   void step() { mapper_->tick(); }
 
   [[nodiscard]] const mapping::GaussianMap& map() const { return mapper_->map(); }
   [[nodiscard]] const mapping::Mapper& mapper() const { return *mapper_; }
+  [[nodiscard]] mapping::Mapper& mapper() { return *mapper_; }
   [[nodiscard]] long dropped_keyframes() const { return dropped_keyframes_; }
 
  private:
@@ -59,7 +64,8 @@ class LockstepMapper {
     ImageU8 rgb;
     ImageF32 depth_m;
   };
-  void add(const tracking::Keyframe& kf, const ImageU8& rgb, ImageF32 depth_m);
+  void add(std::uint64_t id, const tracking::Keyframe& kf, const ImageU8& rgb, ImageF32 depth_m,
+           const geometry::Pose* T_w_c_map);
   std::vector<KeptFrame> kept_;
   std::size_t next_kept_ = 0;
   std::uint64_t next_id_ = 0;

@@ -12,6 +12,7 @@
 #include "io/ros_msgs/time_reference.hpp"
 #include "io/ros_msgs/typed_io.hpp"
 #include "pipeline/lockstep_mapping.hpp"
+#include "pipeline/map_loop_correction.hpp"
 
 namespace vigs::pipeline {
 namespace {
@@ -127,6 +128,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   std::optional<LockstepMapper> mapper;
   std::optional<tracking::LoopCloser> loops;
   if (cfg.tracking.loop.enabled) loops.emplace(cfg.tracking.loop, cfg.tracking.gicp);
+  MapLoopCorrection map_correction;  // the map follows the loop closer (map_loop_correction.hpp)
   ImuFeeder feeder(motion.imu);
   std::int64_t last_t_ns = 0;
   // as_run: the frames the recording's run tracked and the newest IMU sample each one used.
@@ -197,18 +199,25 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     const double track_s = seconds_since(t_track);
     result.track_s += track_s;
     result.track_ms.push_back(static_cast<float>(1e3 * track_s));
+    bool closed = false;
+    std::optional<geometry::Pose> T_w_c_map;  // with loops: the keyframe's solved pose
+    if (loops && f.keyframe) {
+      closed = loops->add_keyframe(odometry->tracker().last_keyframe(), f.reinitialized);
+      if (mapper && cfg.mapping.follow_loop_closures)
+        T_w_c_map = map_correction.place(*loops, static_cast<int>(loops->graph().num_nodes()) - 1);
+    }
     if (mapper) {
       const auto t_map = std::chrono::steady_clock::now();
       // A keyframe may come moving_window_frames late (the moving test): train it on its own
       // frame, kept since.
-      if (f.keyframe && !mapper->add_keyframe(odometry->tracker().last_keyframe())) {
+      if (f.keyframe && !mapper->add_keyframe(odometry->tracker().last_keyframe(),
+                                              T_w_c_map ? &*T_w_c_map : nullptr)) {
         ++result.keyframes_without_view;
       }
-      mapper->step();
+      mapper->step();  // inserts the keyframe first: a closure below moves it too
+      if (closed && cfg.mapping.follow_loop_closures)
+        map_correction.apply(*loops, mapper->mapper());
       result.map_s += seconds_since(t_map);
-    }
-    if (loops && f.keyframe) {
-      loops->add_keyframe(odometry->tracker().last_keyframe(), f.reinitialized);
     }
     result.frames.push_back(f);
     if (on_frame) on_frame(f);
@@ -237,7 +246,11 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   if (!odometry)
     throw RecordingError(path + ": no RGB-D frames on " + std::string(io::topics::kRgb.name));
   result.counters = odometry->counters();
-  if (loops) apply_loop_closure(*loops, result);
+  if (loops) {
+    apply_loop_closure(*loops, result);
+    if (mapper && cfg.mapping.follow_loop_closures)
+      map_correction.apply(*loops, mapper->mapper());  // the graph's last solution
+  }
   result.imu_samples_fed = feeder.fed();
   if (mapper) {
     result.map = std::make_shared<const mapping::GaussianMap>(mapper->map());
@@ -250,6 +263,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     result.map_gated_points = mapper->mapper().gated_points();
     result.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
     result.map_refined_closer = mapper->mapper().refined_closer();
+    result.map_moved_by_loops = mapper->mapper().moved_by_corrections();
   }
   result.wall_s = seconds_since(t0);
   return result;

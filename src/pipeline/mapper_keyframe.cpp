@@ -11,7 +11,8 @@ namespace vigs::pipeline {
 
 std::unique_ptr<mapping::MapperKeyframe> make_mapper_keyframe(
     std::uint64_t id, const tracking::Keyframe& kf, const PinholeCamera& camera, int stride_px,
-    const config::MovingMaskSettings& moving_mask, const ImageU8& rgb, ImageF32 depth_m) {
+    const config::MovingMaskSettings& moving_mask, const ImageU8& rgb, ImageF32 depth_m,
+    const geometry::Pose* T_w_c_map) {
   const int stride = std::max(1, stride_px);
   auto m = std::make_unique<mapping::MapperKeyframe>();
   m->id = id;
@@ -19,7 +20,8 @@ std::unique_ptr<mapping::MapperKeyframe> make_mapper_keyframe(
   if (moving_mask.enabled) mask_moving_pixels(kf, camera, stride, moving_mask.dilation_px, depth_m);
   m->gaussians = to_keyframe_gaussians(kf, keyframe_sample_angle_rad(camera, stride));
   mapping::footprint_colours(camera, rgbd_view(kf.t_ns, depth_m, rgb), stride, m->gaussians);
-  m->camera = mapping::RenderCamera::from(camera, kf.T_w_c);
+  if (T_w_c_map != nullptr) m->gaussians.T_w_c = *T_w_c_map;
+  m->camera = mapping::RenderCamera::from(camera, m->gaussians.T_w_c);
   m->rgb.resize(rgb.data.size());
   std::transform(rgb.data.begin(), rgb.data.end(), m->rgb.begin(),
                  [](std::uint8_t c) { return static_cast<float>(c) / 255.0f; });

@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "core/config/mapping_components.hpp"
+#include "core/geometry/se3.hpp"
 #include "core/types/image.hpp"
 #include "core/types/pinhole_camera.hpp"
 #include "mapping/mapper.hpp"
@@ -22,9 +23,11 @@
 namespace vigs::pipeline {
 
 /// `rgb`: 3 channels, the size of `depth_m` (metres, 0 = no measurement). `stride_px`: the
-/// tracker's pixel stride (the points' footprint).
+/// tracker's pixel stride (the points' footprint). `T_w_c_map`: where the map places the
+/// keyframe (its loop-corrected pose, map_loop_correction.hpp); null: the tracker's kf.T_w_c.
 std::unique_ptr<mapping::MapperKeyframe> make_mapper_keyframe(
     std::uint64_t id, const tracking::Keyframe& kf, const PinholeCamera& camera, int stride_px,
-    const config::MovingMaskSettings& moving_mask, const ImageU8& rgb, ImageF32 depth_m);
+    const config::MovingMaskSettings& moving_mask, const ImageU8& rgb, ImageF32 depth_m,
+    const geometry::Pose* T_w_c_map = nullptr);
 
 }  // namespace vigs::pipeline

@@ -7,8 +7,8 @@
 //   trajectory_odometry.tum  optional (runs with tracking.loop_closure). The poses as the
 //                   odometry tracked them, before the loop closer's correction, which
 //                   trajectory.tum then holds; `vigs eval run --estimate` compares either.
-//                   map.ply is in this trajectory's frame (the map is not corrected), so
-//                   `vigs eval run` renders its views at these poses when the file is there.
+//                   map.ply follows the correction (each keyframe's Gaussians move with it,
+//                   pipeline/map_loop_correction.hpp), so it is in trajectory.tum's frame.
 //   map.ply         optional. The Gaussian map in the standard 3DGS PLY layout
 //                   (mapping/ply_io.hpp), in the same world frame as trajectory.tum.
 //                   Without it there are no PSNR/SSIM, rendered views or Gaussian count.

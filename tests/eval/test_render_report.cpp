@@ -248,25 +248,26 @@ TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
   EXPECT_NE(md.find("![rendered vs recorded](plots/rendered_vs_recorded.png)"), std::string::npos);
 }
 
-// A run with the loop closer: trajectory.tum is corrected, the map stays in the frame of the
-// poses as tracked (trajectory_odometry.tum). The ATE is the corrected trajectory's; the views
-// are rendered at the poses the map was built with.
-TEST_F(RenderReportTest, ALoopCorrectedRunIsRenderedAtItsOdometryPoses) {
+// A run with the loop closer: trajectory.tum is corrected and the map follows it
+// (map_loop_correction.hpp); trajectory_odometry.tum keeps the poses as tracked. The views are
+// rendered at the estimate evaluated, so the corrected trajectory's render matches the map.
+TEST_F(RenderReportTest, ALoopCorrectedRunIsRenderedAtItsCorrectedPoses) {
   const fs::path d = dir_ / "loop_corrected";
   fs::create_directories(d);
   for (const char* f : {pipeline::kMapFile, pipeline::kKeyframesFile, pipeline::kStatsFile})
     fs::copy_file(dir_ / f, d / f);
-  fs::copy_file(dir_ / "trajectory_perturbed.tum", d / pipeline::kTrajectoryFile);
-  fs::copy_file(dir_ / pipeline::kTrajectoryFile, d / pipeline::kOdometryTrajectoryFile);
+  fs::copy_file(dir_ / pipeline::kTrajectoryFile, d / pipeline::kTrajectoryFile);
+  fs::copy_file(dir_ / "trajectory_perturbed.tum", d / pipeline::kOdometryTrajectoryFile);
   const ReportResult loop = write_report(options(d, pipeline::kTrajectoryFile));
   const ReportResult truth = write_report(options(dir_, pipeline::kTrajectoryFile));
   ASSERT_TRUE(loop.quality_measured && truth.quality_measured);
-  EXPECT_NEAR(loop.ate.stats.rmse, 0.04, 1e-6);  // the corrected trajectory's
+  EXPECT_LT(loop.ate.stats.max, 1e-6);  // the corrected trajectory's
   EXPECT_DOUBLE_EQ(loop.quality.every_nth.mean_psnr_db(), truth.quality.every_nth.mean_psnr_db());
-  // Asked for another estimate by name, the views follow that estimate.
-  fs::copy_file(dir_ / "trajectory_perturbed.tum", d / "other.tum");
-  const ReportResult other = write_report(options(d, "other.tum"));
-  EXPECT_LT(other.quality.every_nth.mean_psnr_db(), truth.quality.every_nth.mean_psnr_db() - 3.0);
+  // Asked for the odometry by name, the views follow it.
+  const ReportResult odometry = write_report(options(d, pipeline::kOdometryTrajectoryFile));
+  EXPECT_NEAR(odometry.ate.stats.rmse, 0.04, 1e-6);
+  EXPECT_LT(odometry.quality.every_nth.mean_psnr_db(),
+            truth.quality.every_nth.mean_psnr_db() - 3.0);
 }
 
 TEST_F(RenderReportTest, MissingOptionalFilesAreReportedNotInvented) {

@@ -28,6 +28,7 @@ struct MappingSettings {
   int window_keyframes = 8;
   bool block_culling = true;  ///< mapping/map_blocks.hpp
   int random_keyframes = 2;
+  bool follow_loop_closures = true;  ///< pipeline/map_loop_correction.hpp
 
   void visit(Visitor& v) {
     v.field("lambda_ssim", loss.lambda_ssim, {"-", 0.0, 1.0, "weight of (1 - SSIM) against L1"});
@@ -120,6 +121,11 @@ struct MappingSettings {
             {"keyframes", 1, 1000, "recent keyframes trained in turn"});
     v.field("random_keyframes", random_keyframes,
             {"keyframes", 0, 1000, "older keyframes drawn at random per round"});
+    v.field("follow_loop_closures", follow_loop_closures,
+            "with tracking.loop_closure: keyframes go into the map at their loop-corrected "
+            "poses, and each closure moves every keyframe's Gaussians and training view with "
+            "its corrected pose, so the map and trajectory.tum share one frame; off: the map "
+            "keeps the odometry's poses (and its drift where the route returns)");
   }
 };
 

@@ -1,0 +1,37 @@
+#include "pipeline/map_loop_correction.hpp"
+
+#include <stdexcept>
+
+namespace vigs::pipeline {
+
+geometry::Pose MapLoopCorrection::place(const tracking::LoopCloser& loops, int node) {
+  if (node < 0 || static_cast<std::size_t>(node) >= loops.graph().num_nodes())
+    throw std::invalid_argument("MapLoopCorrection::place: node not in the loop closer's graph");
+  const geometry::Pose T_w_c = loops.graph().pose(node);
+  const auto k = static_cast<std::size_t>(node);
+  if (placed_.size() <= k) {
+    placed_.resize(k + 1, geometry::Pose::Identity());
+    is_placed_.resize(k + 1, 0);
+  }
+  placed_[k] = T_w_c;
+  is_placed_[k] = 1;
+  return T_w_c;
+}
+
+std::size_t MapLoopCorrection::apply(const tracking::LoopCloser& loops, mapping::Mapper& mapper) {
+  corrections_.clear();
+  const std::size_t n = std::min(placed_.size(), loops.graph().num_nodes());
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!is_placed_[k]) continue;
+    const geometry::Pose& T_new = loops.graph().pose(static_cast<int>(k));
+    const geometry::Pose T_new_old = T_new * placed_[k].inverse();
+    const double turn = Eigen::AngleAxisd(T_new_old.linear()).angle();
+    if (T_new_old.translation().norm() < kMinMoveM && turn < kMinTurnRad) continue;
+    corrections_.push_back({k, T_new_old});
+    placed_[k] = T_new;
+  }
+  mapper.move_keyframes(corrections_);
+  return corrections_.size();
+}
+
+}  // namespace vigs::pipeline
