@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace vigs::mapping {
 
 namespace {
-void update(std::vector<float>& p, const std::vector<float>& g, std::vector<float>& m,
+void update(std::vector<float>& p, const std::vector<float>& g, std::vector<std::uint16_t>& m,
             std::vector<float>& v, double lr, double b1, double b2, double eps, double bc1,
             double bc2) {
   const float fb1 = static_cast<float>(b1), fb2 = static_cast<float>(b2);
@@ -16,9 +17,10 @@ void update(std::vector<float>& p, const std::vector<float>& g, std::vector<floa
   const std::size_t n = p.size();
   for (std::size_t i = 0; i < n; ++i) {
     const float gi = g[i];
-    m[i] = fb1 * m[i] + (1.0f - fb1) * gi;
+    const float mi = fb1 * from_bfloat16(m[i]) + (1.0f - fb1) * gi;  // as Adam::update_one
+    m[i] = to_bfloat16(mi);
     v[i] = fb2 * v[i] + (1.0f - fb2) * gi * gi;
-    p[i] -= step * m[i] / (std::sqrt(v[i]) * inv_sqrt_bc2 + feps);
+    p[i] -= step * mi / (std::sqrt(v[i]) * inv_sqrt_bc2 + feps);
   }
 }
 }  // namespace
@@ -28,12 +30,13 @@ void Adam::grow(std::size_t n) {
   const std::size_t old = m_.size();
   m_.resize(n);
   v_.resize(n);
-  auto zero_tail = [&](GaussianMap& a) {
-    std::fill(a.mean_w.begin() + 3 * old, a.mean_w.end(), 0.0f);
-    std::fill(a.log_scale.begin() + 3 * old, a.log_scale.end(), 0.0f);
-    std::fill(a.quat_wxyz.begin() + 4 * old, a.quat_wxyz.end(), 0.0f);
-    std::fill(a.opacity_logit.begin() + old, a.opacity_logit.end(), 0.0f);
-    std::fill(a.color_rgb.begin() + 3 * old, a.color_rgb.end(), 0.0f);
+  auto zero_tail = [&](auto& a) {  // bfloat16 zero is all bits zero, as float's
+    using T = typename std::remove_reference_t<decltype(a.mean_w)>::value_type;
+    std::fill(a.mean_w.begin() + 3 * old, a.mean_w.end(), T(0));
+    std::fill(a.log_scale.begin() + 3 * old, a.log_scale.end(), T(0));
+    std::fill(a.quat_wxyz.begin() + 4 * old, a.quat_wxyz.end(), T(0));
+    std::fill(a.opacity_logit.begin() + old, a.opacity_logit.end(), T(0));
+    std::fill(a.color_rgb.begin() + 3 * old, a.color_rgb.end(), T(0));
   };
   zero_tail(m_);
   zero_tail(v_);

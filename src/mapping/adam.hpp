@@ -1,11 +1,14 @@
 #pragma once
 // Adam with one learning rate per parameter group (mean, log-scale, quaternion, opacity logit,
-// colour), moments kept in the same structure-of-arrays layout as the map.
+// colour), moments kept in the same structure-of-arrays layout as the map. The first moment is
+// stored as bfloat16 (bfloat16.hpp), the second as float: 84 B of moments per Gaussian instead
+// of 112, a tenth of the live mapper's memory per Gaussian.
 #include <cmath>
 #include <cstddef>
 #include <vector>
 
 #include "core/config/mapping_components.hpp"
+#include "mapping/bfloat16.hpp"
 #include "mapping/gaussian_map.hpp"
 
 namespace vigs::mapping {
@@ -76,8 +79,10 @@ class Adam {
     float step_mean, step_log_scale, step_quat, step_opacity, step_color;  ///< lr / bc1
   };
   Coeffs begin_step();
-  static void update_one(float& p, float g, float& m, float& v, const Coeffs& c, float step) {
-    m = c.b1 * m + (1.0f - c.b1) * g;
+  static void update_one(float& p, float g, std::uint16_t& m_bf16, float& v, const Coeffs& c,
+                         float step) {
+    const float m = c.b1 * from_bfloat16(m_bf16) + (1.0f - c.b1) * g;
+    m_bf16 = to_bfloat16(m);
     v = c.b2 * v + (1.0f - c.b2) * g * g;
     p -= step * m / (std::sqrt(v) * c.inv_sqrt_bc2 + c.eps);
   }
@@ -99,7 +104,8 @@ class Adam {
   void grow(std::size_t n);
 
   AdamSettings s_;
-  GaussianMap m_, v_;
+  GaussianParams<std::uint16_t> m_;  ///< first moment, bfloat16
+  GaussianMap v_;                    ///< second moment
   long step_ = 0;
 };
 

@@ -3,12 +3,14 @@
 // the first) and the renders reach a stated PSNR against the ground-truth images.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <random>
 #include <vector>
 
+#include "mapping/bfloat16.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "test_scene.hpp"
 
@@ -128,6 +130,73 @@ TEST(MappingOptimize, FusedAdamStepEqualsGradientThenStep) {
   EXPECT_EQ(a.opacity_logit, b.opacity_logit);
   EXPECT_EQ(a.color_rgb, b.color_rgb);
   EXPECT_NE(a.mean_w, test::random_gaussians<float>(40, 5).mean_w);  // something moved
+}
+
+// bfloat16 storage of Adam's first moment (bfloat16.hpp): conversions, and the optimiser's path
+// against the same Adam in float on a quadratic.
+TEST(MappingBfloat16, RoundsToNearestEvenAndKeepsTheFloatRange) {
+  for (const float f : {0.0f, 1.0f, -2.5f, 0.15625f, 1e-30f, 3e38f})
+    EXPECT_EQ(from_bfloat16(to_bfloat16(from_bfloat16(to_bfloat16(f)))),
+              from_bfloat16(to_bfloat16(f)));
+  EXPECT_EQ(from_bfloat16(to_bfloat16(1.0f)), 1.0f);
+  // 1 + 2^-8 lies halfway between 1 and 1 + 2^-7: ties go to the even mantissa (1)
+  EXPECT_EQ(from_bfloat16(to_bfloat16(1.0f + 0x1p-8f)), 1.0f);
+  EXPECT_EQ(from_bfloat16(to_bfloat16(1.0f + 0x1p-8f + 0x1p-20f)), 1.0f + 0x1p-7f);
+  EXPECT_EQ(from_bfloat16(to_bfloat16(1.0f + 3 * 0x1p-8f)), 1.0f + 0x1p-6f);  // tie, up to even
+  EXPECT_TRUE(std::isnan(from_bfloat16(to_bfloat16(std::nanf("")))));
+  for (float f = 1e-20f; f < 1e20f; f *= 1.37f) {
+    EXPECT_LE(std::abs(from_bfloat16(to_bfloat16(f)) - f), f * 0x1p-8f) << f;
+    EXPECT_EQ(from_bfloat16(to_bfloat16(-f)), -from_bfloat16(to_bfloat16(f)));
+  }
+}
+
+TEST(MappingBfloat16, AdamFollowsTheFloatAdamOnAQuadratic) {
+  // loss sum_i w_i (x_i - t_i)^2 / 2 over every parameter of 50 Gaussians; reference: the same
+  // Adam in float (torch.optim.Adam's update)
+  GaussianMap p = test::random_gaussians<float>(50, 11);
+  const GaussianMap start = p;
+  AdamSettings s;
+  s.lr_mean = s.lr_log_scale = s.lr_quat = s.lr_opacity = s.lr_color = 1e-2;
+  Adam adam(s);
+  const auto flat = [](GaussianMap& g) {
+    std::vector<float*> v;
+    for (auto* a : {&g.mean_w, &g.log_scale, &g.quat_wxyz, &g.opacity_logit, &g.color_rgb})
+      for (float& x : *a) v.push_back(&x);
+    return v;
+  };
+  GaussianMap ref = start;
+  std::vector<float*> x = flat(p), y = flat(ref);
+  std::vector<double> target(x.size()), weight(x.size()), m(x.size(), 0.0), v(x.size(), 0.0);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    target[i] = *x[i] + 0.5 * std::sin(0.7 * static_cast<double>(i));
+    weight[i] = std::pow(10.0, static_cast<double>(i % 5) - 2.0);  // 0.01 .. 100
+  }
+  GaussianMap grad = start;
+  std::vector<float*> g = flat(grad);
+  double worst = 0.0;
+  for (int step = 1; step <= 300; ++step) {
+    for (std::size_t i = 0; i < x.size(); ++i)
+      *g[i] = static_cast<float>(weight[i] * (*x[i] - target[i]));
+    adam.step(p, grad);
+    const double bc1 = 1.0 - std::pow(s.beta1, step), bc2 = 1.0 - std::pow(s.beta2, step);
+    for (std::size_t i = 0; i < y.size(); ++i) {
+      const double gi = weight[i] * (*y[i] - target[i]);
+      m[i] = s.beta1 * m[i] + (1.0 - s.beta1) * gi;
+      v[i] = s.beta2 * v[i] + (1.0 - s.beta2) * gi * gi;
+      *y[i] -= static_cast<float>(s.lr_mean * (m[i] / bc1) / (std::sqrt(v[i] / bc2) + s.eps));
+    }
+    for (std::size_t i = 0; i < x.size(); ++i)  // along the way, not only where both converge
+      worst = std::max(worst, std::abs(static_cast<double>(*x[i] - *y[i])));
+  }
+  double moved = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    moved = std::max(moved, std::abs(static_cast<double>(*y[i]) -
+                                     (target[i] - 0.5 * std::sin(0.7 * static_cast<double>(i)))));
+  std::printf(
+      "bfloat16 first moment: largest deviation from float Adam %.2e over moves up to %.2f\n",
+      worst, moved);
+  EXPECT_GT(moved, 0.4);   // the parameters went most of the way
+  EXPECT_LT(worst, 5e-3);  // half of one step (lr): the bfloat16 moment follows at every step
 }
 
 }  // namespace
