@@ -19,8 +19,11 @@ namespace vigs::pipeline {
 
 class MapLoopCorrection {
  public:
-  /// Corrections smaller than these are left for a later closure.
-  static constexpr double kMinMoveM = 1e-4, kMinTurnRad = 1e-5;
+  /// Corrections smaller than these (a third of a pixel at 2 m at 720x480, where the graph
+  /// moves most keyframes of a long run a little at every closure) are left to accumulate:
+  /// moving two million Gaussians and rebuilding the insertion occupancy per closure held the
+  /// live mapper long enough to drop keyframes at its queue.
+  static constexpr double kMinMoveM = 2e-3, kMinTurnRad = 3.5e-4;
 
   /// The pose at which to insert the keyframe that just became node `node` of `loops`
   /// (LoopCloser::add_keyframe was called for it); remembered as placed there.
