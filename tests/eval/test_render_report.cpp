@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../common/scaled_camera.hpp"
 #include "core/config/robot_config.hpp"
 #include "eval/report.hpp"
 #include "io/atomic_file.hpp"
@@ -70,11 +71,7 @@ class RenderReportTest : public ::testing::Test {
     cfg.sim.humans = 0;
     cfg.sim.seconds = 2.0;
     // A third of the default resolution: the same field of view at a ninth of the cost.
-    cfg.camera.width_px = 240;
-    cfg.camera.height_px = 160;
-    cfg.camera.fx_px = cfg.camera.fy_px = 415.69219381653056 / 3.0;
-    cfg.camera.cx_px = 120.0;
-    cfg.camera.cy_px = 80.0;
+    vigs::test::use_default_camera_divided(cfg.camera, 3);
     sim::Simulator sim(cfg);
     T_b_c_ = sim.T_b_c();
     mcap_ = (dir_ / "seq.mcap").string();

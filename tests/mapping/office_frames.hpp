@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../common/scaled_camera.hpp"
 #include "core/config/robot_config.hpp"
 #include "mapping/rasterizer.hpp"
 #include "sim/simulator.hpp"
@@ -13,11 +14,7 @@ namespace vigs::mapping::test {
 /// The office route without people, `seconds` long, at 360x240.
 inline config::RobotConfig half_res_office(double seconds) {
   config::RobotConfig cfg;
-  cfg.camera.width_px = 360;
-  cfg.camera.height_px = 240;
-  cfg.camera.fx_px = cfg.camera.fy_px = 415.69219381653056 / 2.0;
-  cfg.camera.cx_px = 180.0;
-  cfg.camera.cy_px = 120.0;
+  vigs::test::use_default_camera_divided(cfg.camera, 2);
   cfg.sim.preset = "office";
   cfg.sim.humans = 0;
   cfg.sim.seconds = seconds;

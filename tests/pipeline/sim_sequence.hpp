@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/scaled_camera.hpp"
 #include "core/config/robot_config.hpp"
 #include "eval/ate.hpp"
 #include "inertial/inertial_frontend.hpp"
@@ -24,11 +25,7 @@ namespace vigs::pipeline::testing {
 /// tracked with pixel stride 2 (about 9,600 points a frame, as many as stride 4 at 480x320).
 inline config::RobotConfig small_office(double seconds) {
   config::RobotConfig cfg;
-  cfg.camera.width_px = 240;
-  cfg.camera.height_px = 160;
-  cfg.camera.fx_px = cfg.camera.fy_px = 415.69219381653056 / 3.0;
-  cfg.camera.cx_px = 120.0;
-  cfg.camera.cy_px = 80.0;
+  vigs::test::use_default_camera_divided(cfg.camera, 3);
   cfg.sim.preset = "office";
   cfg.sim.humans = 0;
   cfg.sim.seconds = seconds;

@@ -6,82 +6,25 @@
 #include <cmath>
 #include <vector>
 
-#include "rt/worker_team.hpp"
-#include "synthetic_scene.hpp"
-#include "tracking/covariance.hpp"
-#include "tracking/gaussian_cloud.hpp"
-#include "tracking/kdtree.hpp"
+#include "drifted_route.hpp"
 #include "tracking/loop_closure.hpp"
 
 namespace vigs::tracking {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
-constexpr std::int64_t kSecond = 1'000'000'000;
+using test::keyframe_of;
+using test::kSecond;
+using test::loop_setting;
+using test::out_and_back;
 using test::plane_scene;
 using test::room_scene;
-
-/// The world points a camera at T_w_c sees in front of it, in its frame, with covariances.
-Keyframe keyframe_of(const std::vector<Eigen::Vector3f>& world, const geometry::Pose& T_w_c_true,
-                     const geometry::Pose& T_w_c_estimate, std::int64_t t_ns) {
-  Keyframe kf;
-  kf.t_ns = t_ns;
-  kf.T_w_c = T_w_c_estimate;
-  const geometry::Pose T_c_w = T_w_c_true.inverse();
-  for (const Eigen::Vector3f& p : world) {
-    const Eigen::Vector3f q = (T_c_w * p.cast<double>()).cast<float>();
-    if (q.z() > 0.5f) kf.cloud_c.points_m.push_back(q);
-  }
-  kf.cloud_c.colors_rgb.assign(kf.cloud_c.size(), {0, 0, 0});
-  KdTree tree;
-  tree.build(kf.cloud_c.points_m);
-  rt::WorkerTeam team(2);
-  estimate_covariances(tree, CovarianceSetting{}, team, kf.cloud_c);
-  kf.moving.assign(kf.cloud_c.size(), 0);
-  return kf;
-}
-
-config::GicpSetting tracker_gicp() {
-  config::GicpSetting g;
-  g.max_correspondence_distance_m = 0.05;
-  g.kernel = config::RobustKernel::geman_mcclure;
-  return g;
-}
-
-LoopCloser::Setting setting() {
-  LoopCloser::Setting s;
-  s.enabled = true;
-  s.min_age_s = 5.0;
-  s.anchor_spacing_m = 0.2;
-  return s;
-}
-
-/// Out 1.2 m sideways and back, one keyframe a second; the estimate drifts 1 cm and 0.4
-/// degrees of yaw a keyframe.
-struct Route {
-  std::vector<geometry::Pose> truth, estimate;
-};
-Route out_and_back() {
-  Route r;
-  geometry::Pose est = geometry::Pose::Identity();
-  const int n = 12;
-  for (int k = 0; k <= n; ++k) {
-    const double x = 1.2 * (k <= n / 2 ? k : n - k) / (n / 2);
-    r.truth.push_back(geometry::make_pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(x, 0, 0)));
-    if (k > 0) {
-      const geometry::Pose step = r.truth[k - 1].inverse() * r.truth[k];
-      est = est * step *
-            geometry::make_pose(Eigen::Vector3d(0, 0.4 * kDeg, 0), Eigen::Vector3d(0.01, 0, 0));
-    }
-    r.estimate.push_back(est);
-  }
-  return r;
-}
+using test::Route;
+using test::tracker_gicp;
 
 TEST(LoopCloser, ClosesADriftedReturnAndCorrectsTheTrajectory) {
   const auto world = room_scene(40000);
   const Route r = out_and_back();
-  LoopCloser lc(setting(), tracker_gicp());
+  LoopCloser lc(loop_setting(), tracker_gicp());
   int closed_at = -1;
   for (std::size_t k = 0; k < r.truth.size(); ++k) {
     const bool closed = lc.add_keyframe(
@@ -117,7 +60,7 @@ TEST(LoopCloser, ClosesADriftedReturnAndCorrectsTheTrajectory) {
 TEST(LoopCloser, NothingIsCorrectedWhileNoOldKeyframeIsNear) {
   const auto world = room_scene(40000);
   const Route r = out_and_back();
-  LoopCloser::Setting s = setting();
+  LoopCloser::Setting s = loop_setting();
   s.min_age_s = 100.0;  // the first keyframe is never old enough
   LoopCloser lc(s, tracker_gicp());
   for (std::size_t k = 0; k < r.truth.size(); ++k) {
@@ -135,7 +78,7 @@ TEST(LoopCloser, RefusesAReturnThatSeesAnotherPlace) {
   const auto world = room_scene(40000);
   const auto elsewhere = plane_scene(40000);  // one wall: nothing of the room
   const Route r = out_and_back();
-  LoopCloser lc(setting(), tracker_gicp());
+  LoopCloser lc(loop_setting(), tracker_gicp());
   const std::size_t last = r.truth.size() - 1;
   for (std::size_t k = 0; k <= last; ++k) {
     const auto& scene = k == last ? elsewhere : world;
@@ -151,7 +94,7 @@ TEST(LoopCloser, RefusesAReturnThatSeesAnotherPlace) {
 TEST(LoopCloser, AReturnAlongThePathKeepsNoNewAnchors) {
   const auto world = room_scene(40000);
   const Route r = out_and_back();
-  LoopCloser lc(setting(), tracker_gicp());
+  LoopCloser lc(loop_setting(), tracker_gicp());
   std::int64_t anchors_out = 0;
   for (std::size_t k = 0; k < r.truth.size(); ++k) {
     lc.add_keyframe(
@@ -170,12 +113,12 @@ TEST(LoopCloser, KeepsItsAnchorsWithinTheMemoryBudget) {
   const auto along = [](int k) {
     return geometry::make_pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.25 * k, 0, 0));
   };
-  LoopCloser one(setting(), tracker_gicp());
+  LoopCloser one(loop_setting(), tracker_gicp());
   one.add_keyframe(keyframe_of(world, along(0), along(0), 0));
   const std::size_t per_anchor = one.stats().anchor_bytes;
   ASSERT_GT(per_anchor, 10000u);
 
-  LoopCloser::Setting s = setting();
+  LoopCloser::Setting s = loop_setting();
   s.max_anchor_mb = 5.5 * static_cast<double>(per_anchor) / (1024.0 * 1024.0);
   LoopCloser lc(s, tracker_gicp());
   for (int k = 0; k < 12; ++k) {
