@@ -48,12 +48,12 @@ void LiveMapper::tick() {
     ImageF32 depth_m;
     copy_rgb8(view, rgb);
     copy_depth_m(view, depth_m);
-    // with loops: the keyframe is node next_id_ of the closer's graph and goes to the map at
-    // its solved pose
+    // with loops: the keyframe becomes node next_id_ of the closer's graph and goes to the map
+    // at its solved pose
     geometry::Pose T_w_c_map = slot.keyframe.T_w_c;
     if (loops_) {
       closed = loops_->add_keyframe(slot.keyframe, slot.after_restart) || closed;
-      if (follow_loops_) T_w_c_map = map_correction_.place(*loops_, static_cast<int>(next_id_));
+      if (follow_loops_) T_w_c_map = map_correction_.place(*loops_);
     }
     auto m = make_mapper_keyframe(next_id_++, slot.keyframe, camera_, stride_px_, moving_mask_, rgb,
                                   std::move(depth_m), &T_w_c_map);

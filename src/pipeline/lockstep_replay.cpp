@@ -203,8 +203,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     std::optional<geometry::Pose> T_w_c_map;  // with loops: the keyframe's solved pose
     if (loops && f.keyframe) {
       closed = loops->add_keyframe(odometry->tracker().last_keyframe(), f.reinitialized);
-      if (mapper && cfg.mapping.follow_loop_closures)
-        T_w_c_map = map_correction.place(*loops, static_cast<int>(loops->graph().num_nodes()) - 1);
+      if (mapper && cfg.mapping.follow_loop_closures) T_w_c_map = map_correction.place(*loops);
     }
     if (mapper) {
       const auto t_map = std::chrono::steady_clock::now();

@@ -4,11 +4,11 @@
 
 namespace vigs::pipeline {
 
-geometry::Pose MapLoopCorrection::place(const tracking::LoopCloser& loops, int node) {
-  if (node < 0 || static_cast<std::size_t>(node) >= loops.graph().num_nodes())
-    throw std::invalid_argument("MapLoopCorrection::place: node not in the loop closer's graph");
-  const geometry::Pose T_w_c = loops.graph().pose(node);
-  const auto k = static_cast<std::size_t>(node);
+geometry::Pose MapLoopCorrection::place(const tracking::LoopCloser& loops) {
+  if (loops.graph().num_nodes() == 0)
+    throw std::invalid_argument("MapLoopCorrection::place: the loop closer has no keyframe");
+  const std::size_t k = loops.graph().num_nodes() - 1;
+  const geometry::Pose T_w_c = loops.graph().pose(static_cast<int>(k));
   if (placed_.size() <= k) {
     placed_.resize(k + 1, geometry::Pose::Identity());
     is_placed_.resize(k + 1, 0);

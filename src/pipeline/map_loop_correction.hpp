@@ -25,9 +25,9 @@ class MapLoopCorrection {
   /// live mapper long enough to drop keyframes at its queue.
   static constexpr double kMinMoveM = 2e-3, kMinTurnRad = 3.5e-4;
 
-  /// The pose at which to insert the keyframe that just became node `node` of `loops`
+  /// The pose at which to insert the keyframe that just became the newest node of `loops`
   /// (LoopCloser::add_keyframe was called for it); remembered as placed there.
-  geometry::Pose place(const tracking::LoopCloser& loops, int node);
+  geometry::Pose place(const tracking::LoopCloser& loops);
 
   /// Moves the map's keyframes whose solved pose moved since they were placed or last moved.
   /// Returns the keyframes moved.

@@ -9,43 +9,17 @@
 #include <memory>
 #include <vector>
 
-#include "../tracking/synthetic_scene.hpp"
+#include "../tracking/drifted_route.hpp"
 #include "mapping/mapper.hpp"
 #include "pipeline/map_loop_correction.hpp"
-#include "rt/worker_team.hpp"
-#include "tracking/covariance.hpp"
-#include "tracking/kdtree.hpp"
-#include "tracking/loop_closure.hpp"
 
 namespace vigs::pipeline {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
-constexpr std::int64_t kSecond = 1'000'000'000;
 /// Keyframe k's one Gaussian, in its camera frame (apart for each, so that none is skipped as
 /// already in the map).
 Eigen::Vector3d point_c(int k) {
   return {0.1, -0.2 + 0.03 * k, 1.5};
-}
-
-tracking::Keyframe keyframe_of(const std::vector<Eigen::Vector3f>& world,
-                               const geometry::Pose& T_w_c_true,
-                               const geometry::Pose& T_w_c_estimate, std::int64_t t_ns) {
-  tracking::Keyframe kf;
-  kf.t_ns = t_ns;
-  kf.T_w_c = T_w_c_estimate;
-  const geometry::Pose T_c_w = T_w_c_true.inverse();
-  for (const Eigen::Vector3f& p : world) {
-    const Eigen::Vector3f q = (T_c_w * p.cast<double>()).cast<float>();
-    if (q.z() > 0.5f) kf.cloud_c.points_m.push_back(q);
-  }
-  kf.cloud_c.colors_rgb.assign(kf.cloud_c.size(), {0, 0, 0});
-  tracking::KdTree tree;
-  tree.build(kf.cloud_c.points_m);
-  rt::WorkerTeam team(2);
-  tracking::estimate_covariances(tree, tracking::CovarianceSetting{}, team, kf.cloud_c);
-  kf.moving.assign(kf.cloud_c.size(), 0);
-  return kf;
 }
 
 /// One Gaussian at point_c(id) in front of a keyframe placed at T_w_c (no view: nothing trains).
@@ -68,14 +42,8 @@ struct Outcome {
 
 Outcome run(bool follow) {
   const auto world = tracking::test::room_scene(40000);
-  config::GicpSetting gicp;
-  gicp.max_correspondence_distance_m = 0.05;
-  gicp.kernel = config::RobustKernel::geman_mcclure;
-  tracking::LoopCloser::Setting ls;
-  ls.enabled = true;
-  ls.min_age_s = 5.0;
-  ls.anchor_spacing_m = 0.2;
-  tracking::LoopCloser loops(ls, gicp);
+  const tracking::test::Route route = tracking::test::out_and_back();
+  tracking::LoopCloser loops(tracking::test::loop_setting(), tracking::test::tracker_gicp());
   config::MappingSettings ms;
   ms.iterations_per_tick = 0;  // insertion only
   ms.far_field.depth_m = 0.0;
@@ -83,20 +51,12 @@ Outcome run(bool follow) {
   mapping::KeyframeRing ring(4);
   mapping::Mapper mapper(ms, ring, nullptr, 4, 64);
   MapLoopCorrection correction;
-  // out 1.2 m and back, one keyframe a second; the odometry drifts 1 cm and 0.4 deg of yaw each
-  const int n = 12;
-  geometry::Pose est = geometry::Pose::Identity(), prev_truth = geometry::Pose::Identity();
+  const int n = static_cast<int>(route.truth.size()) - 1;
   for (int k = 0; k <= n; ++k) {
-    const double x = 1.2 * (k <= n / 2 ? k : n - k) / (n / 2);
-    const geometry::Pose truth =
-        geometry::make_pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(x, 0, 0));
-    if (k > 0)
-      est = est * prev_truth.inverse() * truth *
-            geometry::make_pose(Eigen::Vector3d(0, 0.4 * kDeg, 0), Eigen::Vector3d(0.01, 0, 0));
-    prev_truth = truth;
-    const bool closed =
-        loops.add_keyframe(keyframe_of(world, truth, est, static_cast<std::int64_t>(k) * kSecond));
-    const geometry::Pose T_map = follow ? correction.place(loops, k) : est;
+    const auto i = static_cast<std::size_t>(k);
+    const bool closed = loops.add_keyframe(tracking::test::keyframe_of(
+        world, route.truth[i], route.estimate[i], k * tracking::test::kSecond));
+    const geometry::Pose T_map = follow ? correction.place(loops) : route.estimate[i];
     EXPECT_TRUE(ring.try_push(map_keyframe(static_cast<std::uint64_t>(k), T_map)));
     mapper.tick();
     if (closed && follow) correction.apply(loops, mapper);
