@@ -48,16 +48,7 @@ std::size_t move_anchored(GaussianMap& map, const std::vector<std::uint32_t>& an
 }
 
 void move_camera(RenderCamera& camera, const Eigen::Isometry3d& T_new_old) {
-  Eigen::Matrix3d R_c_w;
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k) R_c_w(r, k) = camera.R_c_w[3 * r + k];
-  const Eigen::Vector3d t_c_w(camera.t_c_w[0], camera.t_c_w[1], camera.t_c_w[2]);
-  const Eigen::Matrix3d R_new = R_c_w * T_new_old.linear().transpose();
-  const Eigen::Vector3d t_new = t_c_w - R_new * T_new_old.translation();
-  for (int r = 0; r < 3; ++r) {
-    for (int k = 0; k < 3; ++k) camera.R_c_w[3 * r + k] = R_new(r, k);
-    camera.t_c_w[r] = t_new(r);
-  }
+  camera.set_T_w_c(T_new_old * camera.T_w_c());
 }
 
 }  // namespace vigs::mapping

@@ -23,12 +23,23 @@ struct RenderCamera {
     c.fy_px = k.fy_px;
     c.cx_px = k.cx_px;
     c.cy_px = k.cy_px;
+    c.set_T_w_c(T_w_c);
+    return c;
+  }
+
+  /// The camera's pose in the world.
+  [[nodiscard]] Eigen::Isometry3d T_w_c() const {
+    Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
+    T_c_w.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(R_c_w);
+    T_c_w.translation() = Eigen::Vector3d(t_c_w[0], t_c_w[1], t_c_w[2]);
+    return T_c_w.inverse();
+  }
+  void set_T_w_c(const Eigen::Isometry3d& T_w_c) {
     const Eigen::Isometry3d T_c_w = T_w_c.inverse();
     for (int r = 0; r < 3; ++r) {
-      for (int k2 = 0; k2 < 3; ++k2) c.R_c_w[3 * r + k2] = T_c_w.linear()(r, k2);
-      c.t_c_w[r] = T_c_w.translation()(r);
+      for (int k = 0; k < 3; ++k) R_c_w[3 * r + k] = T_c_w.linear()(r, k);
+      t_c_w[r] = T_c_w.translation()(r);
     }
-    return c;
   }
 };
 
