@@ -6,25 +6,6 @@
 
 namespace vigs::mapping {
 
-namespace {
-void update(std::vector<float>& p, const std::vector<float>& g, std::vector<std::uint16_t>& m,
-            std::vector<float>& v, double lr, double b1, double b2, double eps, double bc1,
-            double bc2) {
-  const float fb1 = static_cast<float>(b1), fb2 = static_cast<float>(b2);
-  const float step = static_cast<float>(lr / bc1);
-  const float inv_sqrt_bc2 = static_cast<float>(1.0 / std::sqrt(bc2));
-  const float feps = static_cast<float>(eps);
-  const std::size_t n = p.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const float gi = g[i];
-    const float mi = fb1 * from_bfloat16(m[i]) + (1.0f - fb1) * gi;  // as Adam::update_one
-    m[i] = to_bfloat16(mi);
-    v[i] = fb2 * v[i] + (1.0f - fb2) * gi * gi;
-    p[i] -= step * mi / (std::sqrt(v[i]) * inv_sqrt_bc2 + feps);
-  }
-}
-}  // namespace
-
 void Adam::grow(std::size_t n) {
   if (m_.size() >= n) return;
   const std::size_t old = m_.size();
@@ -61,19 +42,18 @@ Adam::Coeffs Adam::begin_step() {
 
 void Adam::step(GaussianMap& params, const GaussianMap& grad) {
   grow(params.size());
-  ++step_;
-  const double bc1 = 1.0 - std::pow(s_.beta1, static_cast<double>(step_));
-  const double bc2 = 1.0 - std::pow(s_.beta2, static_cast<double>(step_));
-  update(params.mean_w, grad.mean_w, m_.mean_w, v_.mean_w, s_.lr_mean, s_.beta1, s_.beta2, s_.eps,
-         bc1, bc2);
-  update(params.log_scale, grad.log_scale, m_.log_scale, v_.log_scale, s_.lr_log_scale, s_.beta1,
-         s_.beta2, s_.eps, bc1, bc2);
-  update(params.quat_wxyz, grad.quat_wxyz, m_.quat_wxyz, v_.quat_wxyz, s_.lr_quat, s_.beta1,
-         s_.beta2, s_.eps, bc1, bc2);
-  update(params.opacity_logit, grad.opacity_logit, m_.opacity_logit, v_.opacity_logit,
-         s_.lr_opacity, s_.beta1, s_.beta2, s_.eps, bc1, bc2);
-  update(params.color_rgb, grad.color_rgb, m_.color_rgb, v_.color_rgb, s_.lr_color, s_.beta1,
-         s_.beta2, s_.eps, bc1, bc2);
+  const Coeffs c = begin_step();
+  float g[14];  // the fused step's order: mean 3, log-scale 3, quaternion 4, opacity, colour 3
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      g[k] = grad.mean_w[3 * i + k];
+      g[3 + k] = grad.log_scale[3 * i + k];
+      g[11 + k] = grad.color_rgb[3 * i + k];
+    }
+    for (std::size_t k = 0; k < 4; ++k) g[6 + k] = grad.quat_wxyz[4 * i + k];
+    g[10] = grad.opacity_logit[i];
+    update_gaussian(params, i, g, c);
+  }
 }
 
 std::size_t Adam::bytes() const {
