@@ -149,8 +149,9 @@ void Mapper::after_prune() {
 
 void Mapper::prune_seen_through(const MapperKeyframe& kf) {
   if (!s_.see_through.enabled || kf.depth_m.empty() || kf.camera.width_px <= 0) return;
-  const std::size_t condemned =
-      seen_through_.vote(map_, kf.camera, kf.depth_m.data(), removal_keep_, optimizer_.blocks());
+  const std::size_t condemned = seen_through_.vote(
+      map_, kf.camera, kf.depth_m.data(), removal_keep_, optimizer_.blocks(),
+      anchor_.size() == map_.size() ? anchor_.data() : nullptr, static_cast<std::uint32_t>(kf.id));
   if (condemned == 0) return;
   mark_removed(removal_keep_);
   seen_through_pruned_.add(condemned);

@@ -17,7 +17,8 @@ void add_one(std::uint16_t& c) {
 }  // namespace
 
 std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
-                             std::vector<char>& keep, MapBlocks* blocks) {
+                             std::vector<char>& keep, MapBlocks* blocks,
+                             const std::uint32_t* anchor, std::uint32_t voter_id) {
   const std::size_t n = map.size();
   if (through_.size() > n) {  // the map lost Gaussians without compact(): counts are stale
     through_.clear();
@@ -32,22 +33,26 @@ std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, co
   // the vote looks only at means inside the image in front of the camera (z > 1 mm)
   std::size_t pruned = 0;
   for_ranges_in_view(map, cam, blocks, [&](std::size_t lo, std::size_t hi) {
-    pruned += vote_range(map, cam, depth_m, lo, hi, keep);
+    pruned += vote_range(map, cam, depth_m, lo, hi, keep, anchor, voter_id);
   });
   return pruned;
 }
 
 std::size_t SeeThrough::vote_range(const GaussianMap& map, const RenderCamera& cam,
                                    const float* depth_m, std::size_t lo, std::size_t hi,
-                                   std::vector<char>& keep) {
+                                   std::vector<char>& keep, const std::uint32_t* anchor,
+                                   std::uint32_t voter_id) {
   const int w = cam.width_px, h = cam.height_px;
   const double* R = cam.R_c_w;
   const double* t = cam.t_c_w;
   const double frac = std::clamp(s_.min_fraction, 0.0, 1.0);
   const auto min_count = static_cast<std::uint16_t>(std::clamp(s_.min_count, 1, int{kMaxCount}));
+  const bool by_age = anchor != nullptr && s_.max_age_keyframes > 0;
+  const auto max_age = static_cast<std::int64_t>(s_.max_age_keyframes);
   std::size_t pruned = 0;
   for (std::size_t i = lo; i < hi; ++i) {
     if (map.opacity_logit[i] <= kRemovedLogit) continue;  // removed, awaiting compaction
+    if (by_age && static_cast<std::int64_t>(voter_id) - anchor[i] > max_age) continue;
     const float* m = &map.mean_w[3 * i];
     const double z = R[6] * m[0] + R[7] * m[1] + R[8] * m[2] + t[2];
     if (!(z > 1e-3)) continue;

@@ -15,10 +15,15 @@
 //   moving object's pixel (negative depth, pipeline/moving_pixels.hpp) or, without
 //   missing_far, near a pixel without depth.
 // A Gaussian seen through by at least min_count keyframes, and by at least min_fraction of the
-// keyframes that voted on it, is pruned. The neighbourhood test keeps depth edges from voting
-// through the thin Gaussians along them. Counts are two saturating 16-bit numbers and a far flag
-// per Gaussian (5 bytes), kept aligned with the map through compact() after any other pruning. One
-// pass over the Gaussians per keyframe, no allocation per Gaussian.
+// keyframes that voted on it, is pruned. With max_age_keyframes only keyframes soon after the
+// one that inserted a Gaussian vote on it: a person is seen through within seconds, while a
+// revisit minutes later sees the place from a pose that carries the drift accumulated between
+// (tens of centimetres before a loop closes), which would condemn static surfaces that only
+// the inserting keyframe and the revisit ever saw (the floor at a run's start). The neighbourhood
+// test keeps depth edges from voting through the thin Gaussians along them. Counts are two
+// saturating 16-bit numbers and a far flag per Gaussian (5 bytes), kept aligned with the map
+// through compact() after any other pruning. One pass over the Gaussians per keyframe, no
+// allocation per Gaussian.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -43,8 +48,12 @@ class SeeThrough {
   /// or marks them removed (opacity logit kRemovedLogit: they no longer vote) and compacts
   /// later. With `blocks` (brought up to date with `map` here) only blocks the camera may see
   /// are visited; the votes are the same.
+  /// With `anchor` (one keyframe id per Gaussian, the keyframe that inserted it) and
+  /// max_age_keyframes > 0, keyframe `voter_id` votes only on Gaussians inserted at most
+  /// max_age_keyframes keyframes before it.
   std::size_t vote(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
-                   std::vector<char>& keep, MapBlocks* blocks = nullptr);
+                   std::vector<char>& keep, MapBlocks* blocks = nullptr,
+                   const std::uint32_t* anchor = nullptr, std::uint32_t voter_id = 0);
 
   /// Keeps the counts of the Gaussians whose keep[i] is non-zero, as GaussianParams::compact.
   void compact(const std::vector<char>& keep);
@@ -63,7 +72,8 @@ class SeeThrough {
 
  private:
   std::size_t vote_range(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
-                         std::size_t lo, std::size_t hi, std::vector<char>& keep);
+                         std::size_t lo, std::size_t hi, std::vector<char>& keep,
+                         const std::uint32_t* anchor, std::uint32_t voter_id);
   SeeThroughSettings s_;
   std::vector<std::uint16_t> through_, seen_;
   std::vector<std::uint8_t> far_;

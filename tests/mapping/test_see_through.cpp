@@ -3,7 +3,9 @@
 // Gaussian that later keyframes see through.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "mapping/far_field.hpp"
@@ -54,6 +56,29 @@ TEST(SeeThrough, PrunesWhatTwoKeyframesSeeThrough) {
   ASSERT_EQ(st.size(), 2u);
   EXPECT_EQ(st.seen(0), 2);  // the wall Gaussian's counts moved with it
   EXPECT_EQ(st.seen(1) + st.through(1), 0);
+}
+
+TEST(SeeThrough, OnlyKeyframesSoonAfterTheInsertingOneVote) {
+  GaussianMap map;
+  add_gaussian(map, 0.1, 0.0, 1.5);  // 0: inserted by keyframe 10
+  add_gaussian(map, 0.1, 0.1, 1.5);  // 1: inserted by keyframe 40
+  const std::vector<std::uint32_t> anchor = {10, 40};
+  const std::vector<float> wall = flat_depth(3.0f);  // both seen through
+  SeeThroughSettings s;
+  s.max_age_keyframes = 20;
+  SeeThrough st(s);
+  std::vector<char> keep;
+  // keyframe 45: 35 after Gaussian 0's (no vote), 5 after Gaussian 1's
+  EXPECT_EQ(st.vote(map, camera(), wall.data(), keep, nullptr, anchor.data(), 45), 0u);
+  EXPECT_EQ(st.through(0), 0);
+  EXPECT_EQ(st.through(1), 1);
+  ASSERT_EQ(st.vote(map, camera(), wall.data(), keep, nullptr, anchor.data(), 60), 1u);
+  EXPECT_EQ(keep, (std::vector<char>{1, 0}));
+  EXPECT_EQ(st.through(0), 0);
+  // without anchors (or with max_age_keyframes 0) every keyframe votes
+  SeeThrough all(s);
+  all.vote(map, camera(), wall.data(), keep);
+  EXPECT_EQ(all.vote(map, camera(), wall.data(), keep), 2u);
 }
 
 TEST(SeeThrough, MarginGrowsWithDepth) {
@@ -222,6 +247,27 @@ std::unique_ptr<MapperKeyframe> view_keyframe(std::uint64_t id, const std::vecto
   return kf;
 }
 
+/// Keyframe `first_id` sees a surface 1.5 m away and inserts one Gaussian on it; keyframes
+/// `later_id` and `later_id` + 1 then see a wall 3 m away through it. Returns the mapper's
+/// see-through prunes after each of the two.
+std::array<std::uint64_t, 2> see_through_twice(Mapper& mapper, KeyframeRing& ring,
+                                               std::uint64_t first_id, std::uint64_t later_id) {
+  auto kf = view_keyframe(first_id, flat_depth(1.5f));
+  kf->gaussians.points_c.emplace_back(0.0f, 0.0f, 1.5f);
+  kf->gaussians.covariances_c.push_back(Eigen::Matrix3f::Identity() * 1e-4f);
+  kf->gaussians.colors.emplace_back(0.9f, 0.1f, 0.1f);
+  EXPECT_TRUE(ring.try_push(std::move(kf)));
+  mapper.tick();
+  EXPECT_EQ(mapper.map().size(), 1u);
+  std::array<std::uint64_t, 2> pruned{};
+  for (std::uint64_t k = 0; k < 2; ++k) {
+    EXPECT_TRUE(ring.try_push(view_keyframe(later_id + k, flat_depth(3.0f))));
+    mapper.tick();
+    pruned[k] = mapper.seen_through_pruned();
+  }
+  return pruned;
+}
+
 TEST(SeeThrough, MapperPrunesAGhostOnlyWhenEnabled) {
   for (const bool enabled : {false, true}) {
     config::MappingSettings s;
@@ -230,21 +276,10 @@ TEST(SeeThrough, MapperPrunesAGhostOnlyWhenEnabled) {
     s.prune_every = 5;  // after the three ticks below
     KeyframeRing ring(8);
     Mapper mapper(s, ring, nullptr);
-    // a person's Gaussian, inserted from a keyframe that saw it 1.5 m away
-    auto first = view_keyframe(0, flat_depth(1.5f));
-    first->gaussians.points_c.emplace_back(0.0f, 0.0f, 1.5f);
-    first->gaussians.covariances_c.push_back(Eigen::Matrix3f::Identity() * 1e-4f);
-    first->gaussians.colors.emplace_back(0.9f, 0.1f, 0.1f);
-    ASSERT_TRUE(ring.try_push(std::move(first)));
-    mapper.tick();
-    ASSERT_EQ(mapper.map().size(), 1u);
-    // the person walked on: two keyframes see the wall 3 m away through where it stood
-    ASSERT_TRUE(ring.try_push(view_keyframe(1, flat_depth(3.0f))));
-    mapper.tick();
-    EXPECT_EQ(mapper.seen_through_pruned(), 0u);
-    ASSERT_TRUE(ring.try_push(view_keyframe(2, flat_depth(3.0f))));
-    mapper.tick();
-    EXPECT_EQ(mapper.seen_through_pruned(), enabled ? 1u : 0u);
+    // a person's Gaussian; the person walked on: two keyframes see the wall through where it stood
+    const auto pruned = see_through_twice(mapper, ring, 0, 1);
+    EXPECT_EQ(pruned[0], 0u);
+    EXPECT_EQ(pruned[1], enabled ? 1u : 0u);
     // removed at once (transparent: culled from every render), compacted at the next prune
     ASSERT_EQ(mapper.map().size(), 1u);
     EXPECT_EQ(mapper.map().opacity_logit[0] == kRemovedLogit, enabled);
@@ -252,6 +287,20 @@ TEST(SeeThrough, MapperPrunesAGhostOnlyWhenEnabled) {
       for (int t = 0; t < s.prune_every; ++t) mapper.tick();
       EXPECT_EQ(mapper.map().size(), 0u);
     }
+  }
+}
+
+TEST(SeeThrough, MapperIgnoresRevisitsLongAfterInsertion) {
+  // A surface seen once, then, 40 keyframes later (a revisit whose pose carries the drift
+  // between), "through" by two keyframes: kept with a 30-keyframe window, pruned without.
+  for (const int window : {0, 30}) {
+    config::MappingSettings s;
+    s.far_field.depth_m = 0.0;
+    s.see_through.max_age_keyframes = window;
+    KeyframeRing ring(8);
+    Mapper mapper(s, ring, nullptr);
+    const auto pruned = see_through_twice(mapper, ring, 100, 140);
+    EXPECT_EQ(pruned[1], window == 0 ? 1u : 0u) << "window " << window;
   }
 }
 

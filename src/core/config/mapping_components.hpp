@@ -60,6 +60,9 @@ struct SeeThroughSettings {
   int min_count = 2;           ///< keyframes that must see through a Gaussian to prune it
   double min_fraction = 0.5;   ///< and at least this share of the keyframes that vote on it
   bool missing_far = true;     ///< a pixel without depth is beyond the range (far), not unknown
+  /// Only keyframes at most this many after the one that inserted a Gaussian vote on it
+  /// (0 = every later keyframe).
+  int max_age_keyframes = 30;
 };
 
 /// mapping::CloserRefineSettings (mapping/closer_refine.hpp says the rule): Gaussians that a

@@ -81,6 +81,11 @@ struct MappingSettings {
             {"-", 0.0, 1.0,
              "and at least this share of the keyframes that voted on it (seen through or seen "
              "on the surface)"});
+    v.field("see_through_max_age_keyframes", see_through.max_age_keyframes,
+            {"keyframes", 0, 1000000,
+             "only keyframes at most this many after the one that inserted a Gaussian vote on "
+             "it: their poses are odometry-close, while a revisit minutes later carries the "
+             "drift between (which a 10 cm margin cannot hold); 0 = every later keyframe"});
     v.field("see_through_missing_far", see_through.missing_far,
             "for the see-through vote a pixel without depth is beyond the depth range (a "
             "corridor's end, as the far field takes it); off: such pixels do not vote");
