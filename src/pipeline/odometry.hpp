@@ -1,10 +1,11 @@
 #pragma once
 // The odometry front end: one InertialFrontend and one Tracker, driven frame by frame.
 //
-// Fusion (tracking.fusion, imu mode only): `paper` (the default) is the scheme below; `fused`
-// (opt-in) hands the tracker the IMU-predicted camera pose with its covariance from a 15-state
-// filter (inertial/state_propagation.hpp) as a prior factor of GICP's least squares, and updates
-// the filter — pose, velocity, gyro and accelerometer bias — from the fused result and its
+// Fusion (tracking.fusion, imu mode only): `paper` is the scheme below (VIGS as published);
+// `fused` (the default since 2026-12-04: BENCHMARKS.md, issue #11) hands the tracker the
+// IMU-predicted camera pose with its covariance from a 15-state filter
+// (inertial/state_propagation.hpp) as a prior factor of GICP's least squares, and updates the
+// filter — pose, velocity, gyro and accelerometer bias — from the fused result and its
 // information.
 //
 // With InitialGuessMode::imu each frame's GICP starts from the IMU-propagated pose the

@@ -120,8 +120,9 @@ std::optional<PoseGraphEdge> LoopCloser::verify(const Anchor& anchor, int node,
   e.i = anchor.node;
   e.j = node;
   e.T_i_j = T_a_k;
-  // GICP's information is metric as the tracker takes it (gicp_variance_scale 1): the
-  // directions the two views leave weak (a corridor's axis) stay weak in the graph.
+  // GICP's own information, not divided by the tracker's gicp_variance_scale (which weighs
+  // GICP against the IMU prior): the directions the two views leave weak (a corridor's axis)
+  // stay weak in the graph.
   e.information = information_of_left_increment(r.information, T_a_k);
   return e;
 }

@@ -144,7 +144,11 @@ struct TrackerSetting {
   double min_inlier_ratio = 0.3;
   double max_correction_m = 0.5;
   double max_correction_deg = 30.0;
-  double gicp_variance_scale = 1.0;  ///< GicpResult::information / this = metric information
+  /// GicpResult::information / this = metric information. 0.1 (measured, BENCHMARKS.md issue
+  /// #11, 2026-12-04): at 1 (and 0.3) the fused filter's prior outweighed GICP along a
+  /// corridor's axis after a corner in real time, and its velocity ran 30 % fast until the
+  /// track was lost.
+  double gicp_variance_scale = 0.1;
   /// GICP aligns every n-th cell of the frame's pixel grid in x and y (every n^2-th point of
   /// an unorganised cloud); covariances, the local map and keyframes keep every point.
   int gicp_source_stride = 2;

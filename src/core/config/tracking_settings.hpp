@@ -12,7 +12,7 @@ namespace vigs::config {
 /// the defaults are); the docs, units and ranges are here. The tracking library takes the
 /// components' parts as they are (tracking/settings_from_config.hpp).
 struct TrackingSettings : TrackerSetting {
-  std::string fusion = "paper";  ///< pipeline/odometry.hpp
+  std::string fusion = "fused";  ///< pipeline/odometry.hpp
   LoopClosureSetting loop;       ///< tracking/loop_closure.hpp
 
   void visit(Visitor& v) {
@@ -89,9 +89,10 @@ struct TrackingSettings : TrackerSetting {
              "frame at its guess (IMU pose), and the IMU state restarts there at rest, as at the "
              "first frame; 0 = never"});
     v.field("fusion", fusion, {"fused", "paper"},
-            "imu guess: fused = the IMU prediction and its covariance are a prior factor in "
-            "GICP and a 15-state filter (pose, velocity, gyro and accel bias) is updated from "
-            "the result; paper = IMU guess, then reset from GICP (VIGS)");
+            "imu guess: fused (default) = the IMU prediction and its covariance are a prior "
+            "factor in GICP and a 15-state filter (pose, velocity, gyro and accel bias) is "
+            "updated from the result; paper = IMU guess, then reset from GICP (VIGS as "
+            "published)");
     v.field("gicp_variance_scale", gicp_variance_scale,
             {"-", 1e-9, 1e9,
              "GICP residuals are this many times their modelled covariance: metric "
