@@ -38,6 +38,8 @@ InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings&
   o.estimate_accel_bias = inertial.estimate_accel_bias;
   o.extra_accel_noise_density = inertial.fused_extra_accel_noise_density;
   o.extra_accel_random_walk = inertial.fused_extra_accel_random_walk;
+  o.initial_gravity_tilt_sigma_rad = inertial.fused_gravity_tilt_sigma_rad;
+  o.gravity_tilt_random_walk = inertial.fused_gravity_tilt_random_walk;
   return o;
 }
 
@@ -45,7 +47,8 @@ InertialFrontend::InertialFrontend(const InertialFrontendOptions& options)
     : options_(options),
       ring_(static_cast<std::size_t>(std::max(2, options.buffer_capacity))),
       pi_(options.scheme, options.noise),
-      bias_(options.bias) {}
+      bias_(options.bias),
+      g_w_mps2_(options.g_w_mps2) {}
 
 void InertialFrontend::set_biases(const Eigen::Vector3d& gyro_rps,
                                   const Eigen::Vector3d& accel_mps2) {
@@ -102,7 +105,7 @@ std::optional<NavState> InertialFrontend::predict_state(std::int64_t t_cam_ns) {
   Preintegrator p = pi_;
   if (t_ns > p.t_end_ns()) p.integrate(reading_at(t_ns));
   const DeltaState d = p.predict_with_bias(bias_.bias_rps(), bias_accel_mps2_);
-  return predict_nav_state(state_, d, options_.g_w_mps2);
+  return predict_nav_state(state_, d, g_w_mps2_);
 }
 
 std::optional<geometry::Pose> InertialFrontend::predict_camera_pose(std::int64_t t_ns) {
@@ -133,7 +136,7 @@ bool InertialFrontend::reset_from_tracked(std::int64_t t_cam_ns, const geometry:
         // p_k = p_{k-1} + v_{k-1} dt + g dt^2/2 + R_{k-1} dp gives v_{k-1}; then
         // v_k = v_{k-1} + g dt + R_{k-1} dv.
         const DeltaState d = pi_.predict_with_bias(bias_.bias_rps(), bias_accel_mps2_);
-        const Eigen::Vector3d g = options_.g_w_mps2;
+        const Eigen::Vector3d g = g_w_mps2_;
         const Eigen::Vector3d v_prev = (dp_w - 0.5 * g * dt_s * dt_s - state_.R_w_b * d.p_m) / dt_s;
         s.v_w_b_mps = v_prev + g * dt_s + state_.R_w_b * d.v_mps;
       } else {
@@ -153,7 +156,7 @@ bool InertialFrontend::reset_from_tracked(std::int64_t t_cam_ns, const geometry:
 }
 
 bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred,
-                                       Mat15& P_pred) {
+                                       MatS& P_pred) {
   if (!started_ || t_ns < pi_.t_end_ns()) return false;
   advance_to(t_ns);
   Preintegrator scratch;
@@ -167,10 +170,10 @@ bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState&
       p = &scratch;
     }
   }
-  s_pred = predict_nav_state(state_, p->delta(), options_.g_w_mps2);
-  Mat15 Phi;
-  Mat15x9 G;
-  prediction_jacobians(state_, *p, Phi, G);
+  s_pred = predict_nav_state(state_, p->delta(), g_w_mps2_);
+  MatS Phi;
+  MatSx9 G;
+  prediction_jacobians(state_, *p, g_w_mps2_, Phi, G);
   P_pred = Phi * P_ * Phi.transpose() + G * p->covariance() * G.transpose();
   const double dt = p->dt_s();
   const double qg = options_.gyro_random_walk * options_.gyro_random_walk * dt;
@@ -178,6 +181,8 @@ bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState&
   const double qa = options_.estimate_accel_bias ? (ra * ra + xa * xa) * dt : 0.0;
   P_pred.block<3, 3>(9, 9).diagonal().array() += qg;
   P_pred.block<3, 3>(12, 12).diagonal().array() += qa;
+  const double rt = options_.gravity_tilt_random_walk;
+  P_pred.block<2, 2>(kGravityRow, kGravityRow).diagonal().array() += rt * rt * dt;
   // Unmodelled white acceleration q over dt (isotropic, so the frame does not matter):
   // Q_pp = q dt^3/3, Q_pv = q dt^2/2, Q_vv = q dt.
   const double q = options_.extra_accel_noise_density * options_.extra_accel_noise_density;
@@ -194,11 +199,11 @@ std::optional<InertialFrontend::PosePrediction> InertialFrontend::predict_camera
     std::int64_t t_cam_ns) {
   const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
   NavState s;
-  Mat15 P;
+  MatS P;
   if (!propagate_fused(t_ns, false, s, P)) return std::nullopt;
   PosePrediction out;
   out.T_w_c = s.T_w_b() * options_.T_b_c;
-  const Mat6x15 J = camera_pose_jacobian(s.p_w_b_m);
+  const Mat6xS J = camera_pose_jacobian(s.p_w_b_m);
   out.covariance = J * P * J.transpose();
   return out;
 }
@@ -222,22 +227,27 @@ bool InertialFrontend::update_fused(std::int64_t t_cam_ns, const geometry::Pose&
     P_.block<3, 3>(6, 6).diagonal().setConstant(sv * sv);
     P_.block<3, 3>(9, 9).diagonal().setConstant(sg * sg);
     P_.block<3, 3>(12, 12).diagonal().setConstant(sa * sa);
+    const double st = options_.initial_gravity_tilt_sigma_rad;
+    P_.block<2, 2>(kGravityRow, kGravityRow).diagonal().setConstant(st * st);
   } else {
-    Mat15 P;
+    MatS P;
     if (!propagate_fused(t_ns, true, s, P)) return false;
     P_ = P;
-    const Mat6x15 J = camera_pose_jacobian(s.p_w_b_m);
+    const Mat6xS J = camera_pose_jacobian(s.p_w_b_m);
     const geometry::Pose T_w_c_pred = s.T_w_b() * options_.T_b_c;
     // e* of the fused pose relative to the prediction (tracking/pose_prior.hpp convention).
     const Eigen::Matrix3d dR = T_w_c.linear() * T_w_c_pred.linear().transpose();
     Vec6 e;
     e.head<3>() = geometry::so3_log<double>(dR);
     e.tail<3>() = T_w_c.translation() - dR * T_w_c_pred.translation();
-    Vec15 dx;
+    VecS dx;
     if (fused_pose_update(J, e, information, P_, dx)) {
       s.v_w_b_mps += dx.segment<3>(6);
       bias_.set_bias_rps(bias_.bias_rps() + dx.segment<3>(9));
       if (options_.estimate_accel_bias) bias_accel_mps2_ += dx.segment<3>(12);
+      // Zero unless the tilt has a prior (its rows of P are zero otherwise).
+      const Eigen::Vector3d tilt(dx(kGravityRow), dx(kGravityRow + 1), 0.0);
+      g_w_mps2_ = geometry::so3_exp<double>(tilt) * g_w_mps2_;
     }
     // R and p exactly the fused pose's (dx's pose part is e* to first order).
     s.R_w_b = T_w_b.linear();

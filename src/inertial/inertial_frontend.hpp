@@ -54,6 +54,10 @@ struct InertialFrontendOptions {
   /// accel-bias random walk (m/s^3/sqrt(Hz)) in the prediction (config::InertialSettings).
   double extra_accel_noise_density = 0.0;
   double extra_accel_random_walk = 0.0;
+  /// Fused mode: prior sigma (rad) and random walk (rad/sqrt(s)) of gravity's tilt in the world
+  /// frame (state_propagation.hpp); both 0 pin gravity at g_w_mps2.
+  double initial_gravity_tilt_sigma_rad = 0.0;
+  double gravity_tilt_random_walk = 0.0;
 
   static InertialFrontendOptions from(const config::ImuSettings& imu,
                                       const config::ExtrinsicsSettings& extrinsics,
@@ -101,8 +105,8 @@ class InertialFrontend {
   /// by fused_pose_update and restarts the integrator there. The first call starts the filter
   /// (at rest: v = 0) and ignores Y. Returns false for a time before the last update.
   bool update_fused(std::int64_t t_ns, const geometry::Pose& T_w_c, const Mat6& information);
-  /// Fused-mode covariance of [dtheta, dp, dv, dbg, dba] at the last update.
-  [[nodiscard]] const Mat15& state_covariance() const { return P_; }
+  /// Fused-mode covariance of [dtheta, dp, dv, dbg, dba, dg] at the last update.
+  [[nodiscard]] const MatS& state_covariance() const { return P_; }
   [[nodiscard]] const Eigen::Vector3d& velocity_w_mps() const { return state_.v_w_b_mps; }
 
   /// Forgets the motion state, keeping the samples and the bias estimates: the next
@@ -119,6 +123,8 @@ class InertialFrontend {
   void set_biases(const Eigen::Vector3d& gyro_rps, const Eigen::Vector3d& accel_mps2);
   [[nodiscard]] const Eigen::Vector3d& bias_gyro_rps() const { return bias_.bias_rps(); }
   [[nodiscard]] const Eigen::Vector3d& bias_accel_mps2() const { return bias_accel_mps2_; }
+  /// Gravity in the world frame: g_w_mps2 of the options, tilted by the fused filter's estimate.
+  [[nodiscard]] const Eigen::Vector3d& gravity_w_mps2() const { return g_w_mps2_; }
   [[nodiscard]] const NavState& state_at_reset() const { return state_; }
   [[nodiscard]] const Preintegrator& preintegrator() const { return pi_; }
   [[nodiscard]] const GyroBiasEstimator& bias_estimator() const { return bias_; }
@@ -127,7 +133,7 @@ class InertialFrontend {
  private:
   void advance_to(std::int64_t t_ns);
   /// Fused mode: integrates up to t and returns the predicted state and covariance.
-  bool propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred, Mat15& P_pred);
+  bool propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred, MatS& P_pred);
   [[nodiscard]] ImuSample reading_at(std::int64_t t_ns);
   [[nodiscard]] const ImuSample& front() const { return ring_[head_]; }
   void pop_front();
@@ -147,7 +153,8 @@ class InertialFrontend {
   std::int64_t t_last_ns_ = 0;  ///< time of the last reset
   GyroBiasEstimator bias_;
   Eigen::Vector3d bias_accel_mps2_ = Eigen::Vector3d::Zero();
-  Mat15 P_ = Mat15::Zero();
+  Eigen::Vector3d g_w_mps2_;
+  MatS P_ = MatS::Zero();
   InertialFrontendCounters counters_;
 };
 

@@ -1,15 +1,26 @@
 #pragma once
-// Error-state algebra of the fused IMU/GICP estimator (tracking.fusion: fused): a 15-state
-// error x = [dtheta, dp, dv, dbg, dba] of the body state (R, p, v) and the two biases, with the
-// rotation error on the LEFT in the world frame (R = Exp(dtheta) R_hat) and additive errors
-// otherwise, propagated over one preintegrated interval and updated from a camera pose.
+// Error-state algebra of the fused IMU/GICP estimator (tracking.fusion: fused): a 17-state
+// error x = [dtheta, dp, dv, dbg, dba, dg] of the body state (R, p, v), the two biases and the
+// direction of gravity in the world (map) frame, with the rotation error on the LEFT in the
+// world frame (R = Exp(dtheta) R_hat) and additive errors otherwise, propagated over one
+// preintegrated interval and updated from a camera pose.
+//
+// Gravity: g = Exp([dg; 0]) g_hat, a tilt about the world x and y axes (a turn about z does not
+// move a vertical g; for the small tilts here the z part stays a gauge). The world is the
+// tracker's map, fixed by the first keyframe's gravity-aligned pose: when that alignment or the
+// map's later drift tilts it against the true vertical, GICP holds the body to the tilted map
+// and the accelerometer sees g sin(tilt) sideways. Without this state only the accelerometer
+// bias, a body-frame vector, can absorb it, and after the next 90 deg turn it points the wrong
+// way (BENCHMARKS.md, sixteenth session). The tilt is world-fixed: turns separate it from the
+// bias. Its prior sigma 0 pins it (the 15-state filter).
 //
 // Prediction over [i, j] (nav_state.hpp, Forster et al. eq. 33) at the filter's biases, with
 // the preintegration's right rotation error dphi (dR_true = dR Exp(dphi)) and its bias Jacobians:
 //   dtheta_j = dtheta_i + R_j (J_Rg dbg + dphi)                                  (R_j = R_i dR)
-//   dv_j     = dv_i - [R_i dv]x dtheta_i + R_i (J_vg dbg + J_va dba + ddv)
+//   dv_j     = dv_i - [R_i dv]x dtheta_i + R_i (J_vg dbg + J_va dba + ddv) - dt [g]x dg
 //   dp_j     = dp_i + dt dv_i - [R_i dp]x dtheta_i + R_i (J_pg dbg + J_pa dba + ddp)
-//   dbg_j = dbg_i, dba_j = dba_i (plus their random walks).
+//              - dt^2/2 [g]x dg
+//   dbg_j = dbg_i, dba_j = dba_i, dg_j = dg_i (plus their random walks).
 // x_j = Phi x_i + G n, n = [dphi, ddv, ddp] with the preintegration covariance.
 //
 // A camera pose T_w_c = T_w_b T_b_c perturbed as the tracker's pose prior is
@@ -25,24 +36,26 @@
 
 namespace vigs::inertial {
 
-using Mat15 = Eigen::Matrix<double, 15, 15>;
-using Mat15x9 = Eigen::Matrix<double, 15, 9>;
-using Mat6x15 = Eigen::Matrix<double, 6, 15>;
-using Mat15x6 = Eigen::Matrix<double, 15, 6>;
+inline constexpr int kStateDim = 17;  ///< [dtheta, dp, dv, dbg, dba] 15, gravity tilt 2
+inline constexpr int kGravityRow = 15;
+using MatS = Eigen::Matrix<double, kStateDim, kStateDim>;
+using MatSx9 = Eigen::Matrix<double, kStateDim, 9>;
+using Mat6xS = Eigen::Matrix<double, 6, kStateDim>;
+using MatSx6 = Eigen::Matrix<double, kStateDim, 6>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
-using Vec15 = Eigen::Matrix<double, 15, 1>;
+using VecS = Eigen::Matrix<double, kStateDim, 1>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 /// Phi and G of the prediction from state `s_i` over the interval `pi` (whose linearisation
-/// biases are the filter's, so the increments need no bias correction).
-inline void prediction_jacobians(const NavState& s_i, const Preintegrator& pi, Mat15& Phi,
-                                 Mat15x9& G) {
+/// biases are the filter's, so the increments need no bias correction) with gravity `g_w`.
+inline void prediction_jacobians(const NavState& s_i, const Preintegrator& pi,
+                                 const Eigen::Vector3d& g_w, MatS& Phi, MatSx9& G) {
   const DeltaState d = pi.delta();
   const Eigen::Matrix3d& R = s_i.R_w_b;
   const Eigen::Matrix3d Rj = R * d.R;
   Phi.setIdentity();
   G.setZero();
-  // rows: 0 dtheta, 3 dp, 6 dv, 9 dbg, 12 dba
+  // rows: 0 dtheta, 3 dp, 6 dv, 9 dbg, 12 dba, 15 dg (x, y)
   Phi.block<3, 3>(0, 9) = Rj * pi.dR_dbg();
   Phi.block<3, 3>(3, 0) = -geometry::hat<double>(Eigen::Vector3d(R * d.p_m));
   Phi.block<3, 3>(3, 6) = d.dt_s * Eigen::Matrix3d::Identity();
@@ -51,6 +64,9 @@ inline void prediction_jacobians(const NavState& s_i, const Preintegrator& pi, M
   Phi.block<3, 3>(6, 0) = -geometry::hat<double>(Eigen::Vector3d(R * d.v_mps));
   Phi.block<3, 3>(6, 9) = R * pi.dv_dbg();
   Phi.block<3, 3>(6, 12) = R * pi.dv_dba();
+  const Eigen::Matrix<double, 3, 2> dg_dtilt = -geometry::hat<double>(g_w).leftCols<2>();
+  Phi.block<3, 2>(6, kGravityRow) = d.dt_s * dg_dtilt;
+  Phi.block<3, 2>(3, kGravityRow) = 0.5 * d.dt_s * d.dt_s * dg_dtilt;
   // noise columns: 0 dphi, 3 ddv, 6 ddp (the preintegrator's order)
   G.block<3, 3>(0, 0) = Rj;
   G.block<3, 3>(6, 3) = R;
@@ -58,8 +74,8 @@ inline void prediction_jacobians(const NavState& s_i, const Preintegrator& pi, M
 }
 
 /// de/dx of the camera pose (e about the world origin, rotation first) for body position p_b.
-inline Mat6x15 camera_pose_jacobian(const Eigen::Vector3d& p_w_b) {
-  Mat6x15 J = Mat6x15::Zero();
+inline Mat6xS camera_pose_jacobian(const Eigen::Vector3d& p_w_b) {
+  Mat6xS J = Mat6xS::Zero();
   J.block<3, 3>(0, 0).setIdentity();
   J.block<3, 3>(3, 0) = geometry::hat<double>(p_w_b);
   J.block<3, 3>(3, 3).setIdentity();
@@ -74,9 +90,9 @@ inline Mat6x15 camera_pose_jacobian(const Eigen::Vector3d& p_w_b) {
 ///                                                        = L - L Y^-1 L  (L = P_pose^-1),
 /// which never inverts GICP's own (possibly singular) information. Returns false (nothing
 /// changed) when P_pose or Y is not positive definite.
-inline bool fused_pose_update(const Mat6x15& J, const Vec6& e_star, const Mat6& Y, Mat15& P,
-                              Vec15& dx) {
-  const Mat15x6 PJt = P * J.transpose();
+inline bool fused_pose_update(const Mat6xS& J, const Vec6& e_star, const Mat6& Y, MatS& P,
+                              VecS& dx) {
+  const MatSx6 PJt = P * J.transpose();
   const Mat6 P_pose = J * PJt;
   const Eigen::LLT<Mat6> llt_p(P_pose);
   const Eigen::LLT<Mat6> llt_y(Y);
@@ -84,7 +100,7 @@ inline bool fused_pose_update(const Mat6x15& J, const Vec6& e_star, const Mat6& 
   const Mat6 L = llt_p.solve(Mat6::Identity());
   const Mat6 S_inv = L - L * llt_y.solve(L);
   dx = PJt * (L * e_star);
-  Mat15 P_new = P - PJt * S_inv * PJt.transpose();
+  MatS P_new = P - PJt * S_inv * PJt.transpose();
   P = 0.5 * (P_new + P_new.transpose());
   return dx.allFinite() && P.allFinite();
 }

@@ -16,7 +16,7 @@ struct InertialSettings {
   double gyro_bias_max_step_rps = 0.005;      ///< clamp of one update
   double gyro_bias_max_rps = 0.2;             ///< clamp of the estimate's magnitude
   double gyro_bias_gate_deg = 5.0;            ///< skip updates whose residual is larger
-  // Fused mode (tracking.fusion: fused): the 15-state filter.
+  // Fused mode (tracking.fusion: fused): the 17-state filter.
   bool estimate_accel_bias = true;                   ///< estimate the accelerometer bias
   double fused_initial_velocity_sigma_mps = 0.1;     ///< at the first frame (at rest)
   double fused_initial_gyro_bias_sigma_rps = 0.01;   ///< prior sigma of the gyro bias
@@ -27,6 +27,10 @@ struct InertialSettings {
   /// filter trusts its velocity and biases far beyond what GICP can correct (BENCHMARKS.md).
   double fused_extra_accel_noise_density = 0.2;  ///< m/s^2/sqrt(Hz)
   double fused_extra_accel_random_walk = 0.03;   ///< m/s^3/sqrt(Hz)
+  /// Gravity's direction in the map frame as two filter states (inertial/state_propagation.hpp):
+  /// prior sigma at the first frame and random walk of the map's tilt; 0 and 0 pin it.
+  double fused_gravity_tilt_sigma_rad = 0.0;
+  double fused_gravity_tilt_random_walk = 0.0;  ///< rad/sqrt(s)
 
   void visit(Visitor& v) {
     v.field("scheme", scheme, {"midpoint", "zoh"},
@@ -63,6 +67,13 @@ struct InertialSettings {
     v.field("fused_extra_accel_random_walk", fused_extra_accel_random_walk,
             {"m/s^3/sqrt(Hz)", 0.0, 100.0,
              "fused tracking: accelerometer-bias random walk added to the imu's"});
+    v.field("fused_gravity_tilt_sigma_rad", fused_gravity_tilt_sigma_rad,
+            {"rad", 0.0, 0.5,
+             "fused tracking: prior sigma of gravity's tilt against the map at the first frame "
+             "(0 with a zero random walk: gravity pinned at the start's vertical)"});
+    v.field("fused_gravity_tilt_random_walk", fused_gravity_tilt_random_walk,
+            {"rad/sqrt(s)", 0.0, 1.0,
+             "fused tracking: random walk of gravity's tilt against the map as the map drifts"});
   }
 };
 
