@@ -35,8 +35,9 @@ struct CorridorRun {
 };
 
 /// The estimate's and the truth's camera positions at the frame nearest `t_s` after start.
-std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> positions_at(
-    const ReplayResult& r, const eval::Trajectory& gt, double t_s) {
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> positions_at(const ReplayResult& r,
+                                                                        const eval::Trajectory& gt,
+                                                                        double t_s) {
   if (r.frames.empty()) return std::nullopt;
   const double t0 = static_cast<double>(r.frames.front().t_ns) * 1e-9;
   for (std::size_t i = 0; i < r.frames.size(); ++i) {
