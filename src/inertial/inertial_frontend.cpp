@@ -245,7 +245,7 @@ bool InertialFrontend::update_fused(std::int64_t t_cam_ns, const geometry::Pose&
       s.v_w_b_mps += dx.segment<3>(6);
       bias_.set_bias_rps(bias_.bias_rps() + dx.segment<3>(9));
       if (options_.estimate_accel_bias) bias_accel_mps2_ += dx.segment<3>(12);
-      // Zero unless the tilt has a prior (its rows of P are zero otherwise).
+      // Zero while the tilt is pinned (prior sigma and random walk 0: its rows of P stay 0).
       const Eigen::Vector3d tilt(dx(kGravityRow), dx(kGravityRow + 1), 0.0);
       g_w_mps2_ = geometry::so3_exp<double>(tilt) * g_w_mps2_;
     }

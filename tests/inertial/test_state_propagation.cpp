@@ -174,6 +174,48 @@ TEST(StatePropagation, FusedUpdateIsTheConditionalMeanAndShrinksTheCovariance) {
   EXPECT_LT((P2 - P).norm(), 1e-9 * P.norm());
 }
 
+/// The filter's settings when the synthetic IMU is exactly its model: no unmodelled
+/// acceleration to add.
+config::InertialSettings exact_model_settings() {
+  config::InertialSettings model;
+  model.fused_extra_accel_noise_density = 0.0;
+  model.fused_extra_accel_random_walk = 0.0;
+  return model;
+}
+
+/// A GICP-like posterior information: sigma 0.05 deg, 2 mm.
+Mat6 gicp_like_information() {
+  Mat6 Y = Mat6::Zero();
+  Y.topLeftCorner<3, 3>().diagonal().setConstant(1.0 / std::pow(0.05 * M_PI / 180.0, 2));
+  Y.bottomRightCorner<3, 3>().diagonal().setConstant(1.0 / (0.002 * 0.002));
+  return Y;
+}
+
+/// The camera pose of `motion` at t_ns.
+Pose camera_pose(const SyntheticMotion& motion, std::int64_t t_ns, const Pose& T_b_c) {
+  const MotionPoint m = motion.at(1e-9 * static_cast<double>(t_ns));
+  Pose T_w_b = Pose::Identity();
+  T_w_b.linear() = m.R_w_b;
+  T_w_b.translation() = m.p_w_b_m;
+  return T_w_b * T_b_c;
+}
+
+/// Feeds `f` the 200 Hz samples of `motion` (gravity `g`, constant biases added) from
+/// next_imu_ns up to 10 ms past the frame at t_ns, a real IMU running ahead of the camera.
+void feed_imu(InertialFrontend& f, const SyntheticMotion& motion, std::int64_t t_ns,
+              const Vector3d& g, const Vector3d& bg, const Vector3d& ba,
+              std::int64_t& next_imu_ns) {
+  while (next_imu_ns <= t_ns + 10'000'000) {
+    ImuSample s = motion.sample(next_imu_ns, g);
+    for (int a = 0; a < 3; ++a) {
+      s.gyro_rps[a] += bg[a];
+      s.accel_mps2[a] += ba[a];
+    }
+    f.add_sample(s);
+    next_imu_ns += 5'000'000;
+  }
+}
+
 /// 20 Hz camera poses (exact, with a GICP-like information) and 200 Hz IMU with constant
 /// biases: the filter must recover both biases.
 TEST(FusedFilter, GyroAndAccelBiasEstimatesConverge) {
@@ -182,36 +224,17 @@ TEST(FusedFilter, GyroAndAccelBiasEstimatesConverge) {
   // The synthetic IMU is exactly the filter's model: no unmodelled acceleration to add (with
   // the default 0.2 m/s^2/sqrt(Hz) the estimate still converges, to 1.4e-3 m/s^2 here, but its
   // reported sigma stays near 0.08, as it should when accelerations it cannot model are allowed).
-  config::InertialSettings model;
-  model.fused_extra_accel_noise_density = 0.0;
-  model.fused_extra_accel_random_walk = 0.0;
-  InertialFrontendOptions opt =
-      InertialFrontendOptions::from(config::ImuSettings{}, config::ExtrinsicsSettings{}, model);
+  InertialFrontendOptions opt = InertialFrontendOptions::from(
+      config::ImuSettings{}, config::ExtrinsicsSettings{}, exact_model_settings());
   InertialFrontend f(opt);
   SyntheticMotion motion;
-  Mat6 Y = Mat6::Zero();  // sigma 0.05 deg, 2 mm
-  Y.topLeftCorner<3, 3>().diagonal().setConstant(1.0 / std::pow(0.05 * M_PI / 180.0, 2));
-  Y.bottomRightCorner<3, 3>().diagonal().setConstant(1.0 / (0.002 * 0.002));
+  const Mat6 Y = gicp_like_information();
   std::int64_t next_imu_ns = 0;
-  const auto T_w_c = [&](std::int64_t t) {
-    const MotionPoint m = motion.at(1e-9 * static_cast<double>(t));
-    Pose T = Pose::Identity();
-    T.linear() = m.R_w_b;
-    T.translation() = m.p_w_b_m;
-    return T * opt.T_b_c;
-  };
+  const auto T_w_c = [&](std::int64_t t) { return camera_pose(motion, t, opt.T_b_c); };
   double err_start = 0.0;
   for (int k = 0; k < 600; ++k) {  // 30 s
     const std::int64_t t = 7'000'000 + k * 50'000'000LL;
-    while (next_imu_ns <= t + 10'000'000) {
-      ImuSample s = motion.sample(next_imu_ns, kGravity);
-      for (int a = 0; a < 3; ++a) {
-        s.gyro_rps[a] += true_bg[a];
-        s.accel_mps2[a] += true_ba[a];
-      }
-      f.add_sample(s);
-      next_imu_ns += 5'000'000;
-    }
+    feed_imu(f, motion, t, kGravity, true_bg, true_ba, next_imu_ns);
     if (k > 0) {
       // The transform of the prediction: prior covariance must be positive definite.
       const auto pred = f.predict_camera_pose_fused(t);
@@ -236,10 +259,7 @@ TEST(FusedFilter, GyroAndAccelBiasEstimatesConverge) {
   next_imu_ns = 0;
   for (int k = 0; k < 50; ++k) {
     const std::int64_t t = 7'000'000 + k * 50'000'000LL;
-    while (next_imu_ns <= t + 10'000'000) {
-      g.add_sample(motion.sample(next_imu_ns, kGravity));
-      next_imu_ns += 5'000'000;
-    }
+    feed_imu(g, motion, t, kGravity, Vector3d::Zero(), Vector3d::Zero(), next_imu_ns);
     ASSERT_TRUE(g.update_fused(t, T_w_c(t), Y));
   }
   EXPECT_EQ(g.bias_accel_mps2().norm(), 0.0);
@@ -257,31 +277,18 @@ struct TiltRun {
 TiltRun track_tilted_map(double tilt_sigma_rad) {
   const Vector3d true_ba(0.06, -0.04, 0.05);
   const Vector3d g_map = geometry::so3_exp<double>(Vector3d(0.010, -0.007, 0.0)) * kGravity;
-  config::InertialSettings model;
-  model.fused_extra_accel_noise_density = 0.0;
-  model.fused_extra_accel_random_walk = 0.0;
+  config::InertialSettings model = exact_model_settings();
   model.fused_gravity_tilt_sigma_rad = tilt_sigma_rad;
   const InertialFrontendOptions opt =
       InertialFrontendOptions::from(config::ImuSettings{}, config::ExtrinsicsSettings{}, model);
   InertialFrontend f(opt);
   SyntheticMotion motion;
-  Mat6 Y = Mat6::Zero();  // sigma 0.05 deg, 2 mm
-  Y.topLeftCorner<3, 3>().diagonal().setConstant(1.0 / std::pow(0.05 * M_PI / 180.0, 2));
-  Y.bottomRightCorner<3, 3>().diagonal().setConstant(1.0 / (0.002 * 0.002));
+  const Mat6 Y = gicp_like_information();
   std::int64_t next_imu_ns = 0;
   for (int k = 0; k < 600; ++k) {  // 30 s
     const std::int64_t t = 7'000'000 + k * 50'000'000LL;
-    while (next_imu_ns <= t + 10'000'000) {
-      ImuSample s = motion.sample(next_imu_ns, g_map);
-      for (int a = 0; a < 3; ++a) s.accel_mps2[a] += true_ba[a];
-      f.add_sample(s);
-      next_imu_ns += 5'000'000;
-    }
-    const MotionPoint m = motion.at(1e-9 * static_cast<double>(t));
-    Pose T_w_b = Pose::Identity();
-    T_w_b.linear() = m.R_w_b;
-    T_w_b.translation() = m.p_w_b_m;
-    EXPECT_TRUE(f.update_fused(t, T_w_b * opt.T_b_c, Y));
+    feed_imu(f, motion, t, g_map, Vector3d::Zero(), true_ba, next_imu_ns);
+    EXPECT_TRUE(f.update_fused(t, camera_pose(motion, t, opt.T_b_c), Y));
   }
   TiltRun r;
   r.ba_error_mps2 = (f.bias_accel_mps2() - true_ba).norm();
