@@ -37,6 +37,7 @@ LocalMap::LocalMap(const Setting& setting) : setting_(setting) {
   covs_w_.resize(points_w_.size());
   confirmed_.resize(points_w_.size());
   born_.resize(points_w_.size());
+  depth_m_.resize(points_w_.size());
   voxels_.resize(nv);
   table_.assign(std::bit_ceil(2 * nv), kEmpty);
   free_.reserve(nv);
@@ -58,7 +59,8 @@ void LocalMap::clear() {
 }
 
 std::size_t LocalMap::memory_bytes() const {
-  return capacity_bytes(points_w_, covs_w_, confirmed_, born_, voxels_, table_, free_, scratch_);
+  return capacity_bytes(points_w_, covs_w_, confirmed_, born_, depth_m_, voxels_, table_, free_,
+                        scratch_);
 }
 
 std::int64_t LocalMap::key_of(const Eigen::Vector3f& p) const {
@@ -169,6 +171,7 @@ void LocalMap::prune_tentative() {
         covs_w_[base + out] = covs_w_[at];
         confirmed_[base + out] = confirmed_[at];
         born_[base + out] = born_[at];
+        depth_m_[base + out] = depth_m_[at];
       }
       ++out;
     }
@@ -190,6 +193,7 @@ void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c,
   const Eigen::Vector3f t = T_w_c.translation().cast<float>();
   const auto P = static_cast<std::size_t>(setting_.points_per_voxel);
   const bool use_skip = skip != nullptr && skip->size() == cloud_c.size();
+  const auto replace_ratio = static_cast<float>(setting_.replace_depth_ratio);
   for (std::size_t i = 0; i < cloud_c.size(); ++i) {
     if (use_skip && (*skip)[i] != 0) continue;
     const Eigen::Vector3f p = R * cloud_c.points_m[i] + t;
@@ -222,15 +226,29 @@ void LocalMap::insert(const GaussianCloud& cloud_c, const geometry::Pose& T_w_c,
     }
     Voxel& v = voxels_[slot];
     v.last_seen = stamp_;
-    if (static_cast<std::size_t>(v.count) >= P) continue;
-    const std::size_t at = slot * P + static_cast<std::size_t>(v.count);
+    const float depth_m = cloud_c.points_m[i].z();
+    std::size_t at = slot * P + static_cast<std::size_t>(v.count);
+    if (static_cast<std::size_t>(v.count) >= P) {
+      if (replace_ratio <= 0.0f) continue;
+      // Full: the point seen from farthest (the noisiest, as depth noise grows with depth)
+      // gives way to one seen from clearly nearer.
+      std::size_t worst = slot * P;
+      for (std::size_t k = worst + 1; k < slot * P + P; ++k) {
+        if (depth_m_[k] > depth_m_[worst]) worst = k;
+      }
+      if (!(depth_m < replace_ratio * depth_m_[worst])) continue;
+      at = worst;
+      num_confirmed_ -= confirmed_[at];
+    } else {
+      ++v.count;
+      ++num_points_;
+    }
     points_w_[at] = p;
     covs_w_[at] = R * cloud_c.cov_m2[i] * R.transpose();
     confirmed_[at] = is_confirmed;
     born_[at] = static_cast<std::uint32_t>(stamp_);
+    depth_m_[at] = depth_m;
     num_confirmed_ += is_confirmed;
-    ++v.count;
-    ++num_points_;
   }
   confirmed_only_ = confirm && num_confirmed_ >= kMinConfirmedPoints;
 }

@@ -9,12 +9,17 @@
 // allocate.
 //
 // Bound: at most max_voxels * points_per_voxel points. Memory is fixed at construction:
-// max_voxels * points_per_voxel * 53 B (point 12 B + covariance 36 B + stamp and flag 5 B) +
+// max_voxels * points_per_voxel * 57 B (point 12 B + covariance 36 B + stamp and flag 5 B +
+// insertion depth 4 B) +
 // max_voxels * 24 B of voxel records + 2-4 * max_voxels * 4 B of hash table. Defaults (16384 voxels
-// x 20 points): 327,680 points, about 16 MB.
+// x 20 points): 327,680 points, about 17 MB.
 //
-// Policy: a keyframe's points go to the voxel they fall in; a full voxel keeps its points
-// (later ones are dropped) but is stamped as seen. Voxels farther than `radius_m` from the
+// Policy: a keyframe's points go to the voxel they fall in; a full voxel is stamped as seen and
+// keeps its points, except that with replace_depth_ratio > 0 a new point seen from nearer than
+// that fraction of the camera depth of the voxel's farthest-seen point replaces it. Depth noise
+// grows with depth (about z^2 on structured-light and stereo sensors), and walking down a
+// corridor a voxel is first filled from far away: without replacement the map keeps exactly
+// its noisiest observations. Voxels farther than `radius_m` from the
 // camera are evicted before each insertion; when the pool runs out of free voxels during an
 // insertion, the least recently seen sixteenth of the pool is evicted (ties by slot, so the
 // map is deterministic).
@@ -119,6 +124,7 @@ class LocalMap {
   std::vector<Eigen::Matrix3f> covs_w_;
   std::vector<std::uint8_t> confirmed_;  ///< per point: 1 once re-observed
   std::vector<std::uint32_t> born_;      ///< per point: the stamp it was inserted at
+  std::vector<float> depth_m_;           ///< per point: camera depth when inserted
   std::vector<Voxel> voxels_;
   std::vector<std::uint32_t> table_;                              ///< hash position -> voxel slot
   std::vector<std::uint32_t> free_;                               ///< free voxel slots (stack)

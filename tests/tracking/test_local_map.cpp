@@ -1,6 +1,7 @@
 // Local map: nearest-neighbour correctness, flat memory over a 65 m x 65 m floor, eviction.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "tracking/local_map.hpp"
@@ -208,6 +209,55 @@ TEST(LocalMap, OnlyReobservedPointsAreConfirmedAndMovingOnesArePruned) {
   masked.insert(c, T, &skip);
   EXPECT_EQ(masked.num_points(), person);
   EXPECT_FALSE(masked.nearest(Eigen::Vector3f(0.4f, 0.0f, 2.15f), 0.01f, j, d2));
+}
+
+/// Four points in the voxel [0, 0.1)^3 of world, seen by a camera on the -z axis at `depth_m`
+/// (camera frame = world shifted by depth_m along z), at in-voxel offset `offset_m`.
+GaussianCloud voxel_points(float depth_m, float offset_m) {
+  GaussianCloud c;
+  for (int i = 0; i < 4; ++i) {
+    c.points_m.emplace_back(0.02f + 0.02f * static_cast<float>(i), offset_m, offset_m + depth_m);
+    c.cov_m2.push_back(Eigen::Matrix3f::Identity() * 1e-4f);
+  }
+  return c;
+}
+
+geometry::Pose camera_at_depth(float depth_m) {
+  return geometry::make_pose(Eigen::Vector3d::Zero(),
+                             Eigen::Vector3d(0.0, 0.0, -static_cast<double>(depth_m)));
+}
+
+TEST(LocalMap, AFullVoxelKeepsItsNearestSeenPoints) {
+  LocalMap::Setting s;
+  s.points_per_voxel = 4;
+  s.radius_m = 100.0;
+  s.replace_depth_ratio = 0.7;
+  LocalMap map(s);
+  map.insert(voxel_points(6.0f, 0.01f), camera_at_depth(6.0f));  // first seen from 6 m
+  ASSERT_EQ(map.num_points(), 4u);
+  // From 4.5 m (0.75 of 6 m, not clearly nearer): the 6 m points stay.
+  map.insert(voxel_points(4.5f, 0.05f), camera_at_depth(4.5f));
+  std::uint32_t j = 0;
+  float d2 = 0.0f;
+  ASSERT_TRUE(map.nearest(Eigen::Vector3f(0.04f, 0.05f, 0.05f), 1.0f, j, d2));
+  EXPECT_NEAR(map.point(j).y(), 0.01f, 1e-6f);
+  // From 1 m: the voxel now holds the near points only, and its count is unchanged.
+  map.insert(voxel_points(1.0f, 0.09f), camera_at_depth(1.0f));
+  EXPECT_EQ(map.num_points(), 4u);
+  EXPECT_EQ(map.num_confirmed(), 4u);
+  int near_points = 0;
+  map.for_each_point(
+      [&](const Eigen::Vector3f& p) { near_points += std::abs(p.y() - 0.09f) < 1e-6f; });
+  EXPECT_EQ(near_points, 4);
+  // With the ratio at 0 the first points stay whatever comes later.
+  s.replace_depth_ratio = 0.0;
+  LocalMap first(s);
+  first.insert(voxel_points(6.0f, 0.01f), camera_at_depth(6.0f));
+  first.insert(voxel_points(1.0f, 0.09f), camera_at_depth(1.0f));
+  int far_points = 0;
+  first.for_each_point(
+      [&](const Eigen::Vector3f& p) { far_points += std::abs(p.y() - 0.01f) < 1e-6f; });
+  EXPECT_EQ(far_points, 4);
 }
 
 TEST(LocalMap, HintedNearestIsExact) {

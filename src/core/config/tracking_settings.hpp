@@ -74,6 +74,10 @@ struct TrackingSettings : TrackerSetting {
              "(moving people are not re-observed in place); 0 = every point at once"});
     v.field("local_map_confirm_keyframes", local_map.confirm_keyframes,
             {"keyframes", 1, 1000, "unconfirmed local-map points are dropped after this many"});
+    v.field("local_map_replace_depth_ratio", local_map.replace_depth_ratio,
+            {"-", 0.0, 1.0,
+             "a full voxel replaces its farthest-seen point by a new one seen from nearer than "
+             "this fraction of that point's camera depth; 0 = the first points stay"});
     v.field("moving_margin_m", moving_margin_m,
             {"m", 0.0, 10.0,
              "keyframe points this far in front of the surface a frame shortly before or after "
