@@ -222,6 +222,13 @@ GaussianCloud voxel_points(float depth_m, float offset_m) {
   return c;
 }
 
+/// How many of `map`'s points lie at in-voxel offset `offset_m` (voxel_points' y).
+int points_at_offset(const LocalMap& map, float offset_m) {
+  int n = 0;
+  map.for_each_point([&](const Eigen::Vector3f& p) { n += std::abs(p.y() - offset_m) < 1e-6f; });
+  return n;
+}
+
 geometry::Pose camera_at_depth(float depth_m) {
   return geometry::make_pose(Eigen::Vector3d::Zero(),
                              Eigen::Vector3d(0.0, 0.0, -static_cast<double>(depth_m)));
@@ -245,19 +252,13 @@ TEST(LocalMap, AFullVoxelKeepsItsNearestSeenPoints) {
   map.insert(voxel_points(1.0f, 0.09f), camera_at_depth(1.0f));
   EXPECT_EQ(map.num_points(), 4u);
   EXPECT_EQ(map.num_confirmed(), 4u);
-  int near_points = 0;
-  map.for_each_point(
-      [&](const Eigen::Vector3f& p) { near_points += std::abs(p.y() - 0.09f) < 1e-6f; });
-  EXPECT_EQ(near_points, 4);
+  EXPECT_EQ(points_at_offset(map, 0.09f), 4);
   // With the ratio at 0 the first points stay whatever comes later.
   s.replace_depth_ratio = 0.0;
   LocalMap first(s);
   first.insert(voxel_points(6.0f, 0.01f), camera_at_depth(6.0f));
   first.insert(voxel_points(1.0f, 0.09f), camera_at_depth(1.0f));
-  int far_points = 0;
-  first.for_each_point(
-      [&](const Eigen::Vector3f& p) { far_points += std::abs(p.y() - 0.01f) < 1e-6f; });
-  EXPECT_EQ(far_points, 4);
+  EXPECT_EQ(points_at_offset(first, 0.01f), 4);
 }
 
 TEST(LocalMap, HintedNearestIsExact) {
