@@ -24,7 +24,7 @@ namespace {
 
 struct ReplayArgs {
   std::string recording, out, config_file, guess, fusion, initial_pose = "gravity";
-  std::int64_t frames = 0;
+  std::int64_t frames = 0, skip_frames = 0;
   int map_iterations = 0;
   double map_budget_ms = 0.0;
   bool quiet = false, allow_truncated = false, as_run = false;
@@ -59,6 +59,10 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::IsMember({"gravity", "ground_truth"}));
   cmd->add_option("--frames", a.frames, "replay only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--skip-frames", a.skip_frames,
+                  "start N frames late: the first N frames are not tracked and their IMU samples "
+                  "go in before the first tracked frame, as when a live tracker starts late")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--map-iterations", a.map_iterations,
                   "build map.ply: mapper iterations after every frame (0 = no map)")
       ->check(CLI::Range(0, 1000));
@@ -88,6 +92,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
         opt.fusion = m;
       }
       opt.max_frames = a.frames;
+      opt.skip_frames = a.skip_frames;
       opt.initial_pose = a.initial_pose == "ground_truth"
                              ? pipeline::InitialPoseSource::ground_truth
                              : pipeline::InitialPoseSource::gravity;

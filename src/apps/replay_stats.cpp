@@ -55,6 +55,7 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   s["imu_samples_fed"] = r.imu_samples_fed;
   s["frames_without_depth"] = r.frames_without_depth;
   s["frames_not_tracked_by_run"] = r.frames_not_tracked_by_run;
+  s["frames_skipped_at_start"] = r.frames_skipped_at_start;
   s["input_damage"] = io::mcap::damage_object(r.damage, used_of(r));
   if (r.loop) {
     const tracking::LoopClosureStats& l = *r.loop;

@@ -147,6 +147,10 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
       }
       imu_until_ns = std::min(t_ns, it->imu_t_ns);
     }
+    if (result.frames_skipped_at_start < options.skip_frames) {
+      ++result.frames_skipped_at_start;
+      return;
+    }
     if (!odometry) {
       OdometryOptions opt;
       opt.guess = options.guess;
@@ -242,6 +246,10 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   } catch (const std::runtime_error& e) {  // for_each_recorded_frame names the file and offset
     throw RecordingError(e.what());
   }
+  if (!odometry && result.frames_skipped_at_start > 0)
+    throw RecordingError(path + ": all " + std::to_string(result.frames_skipped_at_start) +
+                         " frames skipped at the start (skip_frames " +
+                         std::to_string(options.skip_frames) + ")");
   if (!odometry)
     throw RecordingError(path + ": no RGB-D frames on " + std::string(io::topics::kRgb.name));
   result.counters = odometry->counters();

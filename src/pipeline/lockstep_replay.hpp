@@ -84,6 +84,11 @@ struct ReplayOptions {
   /// before the IMU's first sample), each with the IMU samples up to the newest one it had
   /// used (an IMU the tracker found late). Gives that run's trajectory bit for bit.
   bool as_run = false;
+  /// Start this many frames late: the first N frames (of those tracked with as_run) are not
+  /// tracked and their IMU samples go in before the first tracked frame, as in a live run
+  /// whose tracker found its first frame late. A start-offset sweep shows how much a result
+  /// depends on the exact start (toolchain/bench-start-sweep).
+  std::int64_t skip_frames = 0;
 };
 
 struct ReplayResult {
@@ -96,6 +101,7 @@ struct ReplayResult {
   std::size_t imu_samples_fed = 0;             ///< fed before the last replayed frame
   std::int64_t frames_without_depth = 0;       ///< tracked with an all-invalid depth image
   std::int64_t frames_not_tracked_by_run = 0;  ///< as_run: recorded frames the run did not track
+  std::int64_t frames_skipped_at_start = 0;    ///< skip_frames: frames not tracked at the start
   /// Keyframes not given to the mapper because their frame was no longer kept (none expected).
   std::int64_t keyframes_without_view = 0;
   io::mcap::DamageReport damage;  ///< with allow_damaged: what the readers found

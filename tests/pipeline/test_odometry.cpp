@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -230,6 +231,33 @@ TEST_F(SimulatedOffice, GravityStartLevelsTheFirstFrameToAFewHundredthsOfADegree
   const double tilt_deg = std::atan2(up_c.cross(up_c_gt).norm(), up_c.dot(up_c_gt)) * 180.0 / M_PI;
   std::printf("first-frame tilt error: %.4f deg\n", tilt_deg);
   EXPECT_LT(tilt_deg, 0.05);
+}
+
+TEST_F(SimulatedOffice, SkipFramesStartsLateWithTheEarlierImuFedFirst) {
+  // A live tracker that finds its first frame late (toolchain/bench-start-sweep replays starts
+  // 1-10 frames late): the skipped frames are not tracked, the IMU samples before the first
+  // tracked frame all go in, and the start is still levelled from the accelerometer at rest.
+  const ReplayResult all = replay(tracking::InitialGuessMode::imu);
+  ReplayOptions opt;
+  opt.skip_frames = 7;
+  const ReplayResult late = replay_recording(path_, cfg_, opt);
+  ASSERT_EQ(late.frames.size(), all.frames.size() - 7);
+  EXPECT_EQ(late.frames_skipped_at_start, 7);
+  EXPECT_EQ(all.frames_skipped_at_start, 0);
+  EXPECT_EQ(late.frames.front().t_ns, all.frames[7].t_ns);
+  EXPECT_EQ(late.frames.back().t_ns, all.frames.back().t_ns);
+  EXPECT_EQ(late.imu_samples_fed, motion_.imu.size());
+  EXPECT_EQ(late.initial_pose, InitialPoseSource::gravity);
+  EXPECT_LT(testing::camera_ate(motion_, late.frames, cfg_).stats.rmse, 0.03);
+
+  opt.skip_frames = static_cast<std::int64_t>(all.frames.size());
+  try {
+    replay_recording(path_, cfg_, opt);
+    ADD_FAILURE() << "every frame skipped: expected a RecordingError";
+  } catch (const RecordingError& e) {
+    EXPECT_NE(std::string(e.what()).find(path_), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("skipped"), std::string::npos) << e.what();
+  }
 }
 
 TEST(InterpolatePose, ExactMidpointAndOutOfRange) {

@@ -100,6 +100,20 @@ TEST_F(ReplayCli, FramesOptionLimitsTheReplay) {
   EXPECT_EQ(*pipeline::read_run_stats(out + "/" + pipeline::kStatsFile).frames, 10.0);
 }
 
+TEST_F(ReplayCli, SkipFramesStartsLate) {
+  const std::string out = dir_.file("late");
+  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
+                                dir_.file("robot.yaml") + " --skip-frames 5 --quiet",
+                            "late")),
+            0)
+      << read_text(dir_.file("late.err"));
+  const auto poses = io::read_tum_trajectory(out + "/" + pipeline::kTrajectoryFile);
+  ASSERT_EQ(poses.size(), 56u);  // 61 frames, the first 5 not tracked
+  EXPECT_NEAR(poses.front().t_s, 0.25, 1e-9);
+  const std::string stats_text = read_text(out + "/" + pipeline::kStatsFile);
+  EXPECT_NE(stats_text.find("\"frames_skipped_at_start\": 5"), std::string::npos) << stats_text;
+}
+
 TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
   const std::string out = dir_.file("mapped");
   ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
