@@ -103,7 +103,7 @@ class FusionCorridor : public ::testing::Test {
 };
 
 // Measured (odometry, no loop closure, first-seen local map): paper 1.75 m RMSE, 2.65 m max;
-// fused 0.093 m, 0.15 m.
+// fused 0.105 m, 0.15 m (0.093 m with inertial.fused_extra_accel_noise_density 0.2).
 TEST_F(FusionCorridor, FusedBeatsThePaperSchemeByFiveTimesWherePaperStopsShort) {
   const CorridorRun paper = run_with(FusionMode::paper, 0.0);
   const CorridorRun fused = run_with(FusionMode::fused, 0.0);
@@ -115,8 +115,11 @@ TEST_F(FusionCorridor, FusedBeatsThePaperSchemeByFiveTimesWherePaperStopsShort) 
   EXPECT_LT(std::abs(fused.corridor_shortfall_m), 0.3);
 }
 
-// Measured with the default local map: paper 0.096 m RMSE, 0.15 m short over the stretch;
-// fused 0.052 m, 0.05 m short. Without the replacement paper stops 3 m short (above).
+// Measured with the default local map: paper 0.096 m RMSE, 0.15 m long over the stretch;
+// fused 0.095 m, 0.14 m long (0.052 m, 0.05 m with inertial.fused_extra_accel_noise_density
+// 0.2, the default until 2026-12-05: the larger process noise that keeps real-time starts on
+// track on the 3-minute routes lets GICP's weak pull along this corridor's axis in). Without
+// the replacement paper stops 3 m short (above).
 TEST_F(FusionCorridor, NearerPointsInTheLocalMapKeepGicpFromStoppingShort) {
   const double ratio = config::RobotConfig{}.tracking.local_map.replace_depth_ratio;
   ASSERT_GT(ratio, 0.0);
@@ -124,7 +127,7 @@ TEST_F(FusionCorridor, NearerPointsInTheLocalMapKeepGicpFromStoppingShort) {
   const CorridorRun fused = run_with(FusionMode::fused, ratio);
   EXPECT_LT(std::abs(paper.corridor_shortfall_m), 0.4);
   EXPECT_LT(paper.ate_rmse_m, 0.2);
-  EXPECT_LT(fused.ate_rmse_m, 0.08);
+  EXPECT_LT(fused.ate_rmse_m, 0.12);
   EXPECT_LT(std::abs(fused.corridor_shortfall_m), 0.2);
 }
 
