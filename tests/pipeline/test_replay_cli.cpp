@@ -37,6 +37,14 @@ class ReplayCli : public ::testing::Test {
     return std::string(VIGS_BIN) + " " + args + " > " + dir_.file(log + ".out") + " 2> " +
            dir_.file(log + ".err");
   }
+  /// Runs `vigs ARGS` with its output in LOG.out / LOG.err: success on exit code 0, else a
+  /// failure carrying LOG.err.
+  ::testing::AssertionResult vigs_ok(const std::string& args, const std::string& log) {
+    const int status = run_status(vigs(args, log));
+    if (status == 0) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "vigs " << args << ": exit " << status << "\n"
+                                         << read_text(dir_.file(log + ".err"));
+  }
 
   TempDir dir_;
   config::RobotConfig cfg_;
@@ -45,11 +53,9 @@ class ReplayCli : public ::testing::Test {
 
 TEST_F(ReplayCli, WritesAResultsDirThatEvalReads) {
   const std::string out = dir_.file("results");
-  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
-                                dir_.file("robot.yaml") + " --guess imu --quiet",
-                            "replay")),
-            0)
-      << read_text(dir_.file("replay.err"));
+  ASSERT_TRUE(vigs_ok("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
+                          " --guess imu --quiet",
+                      "replay"));
 
   const auto poses = io::read_tum_trajectory(out + "/" + pipeline::kTrajectoryFile);
   ASSERT_EQ(poses.size(), 61u);  // 3 s at 20 Hz, both ends
@@ -80,9 +86,7 @@ TEST_F(ReplayCli, WritesAResultsDirThatEvalReads) {
   for (const auto& e : std::filesystem::directory_iterator(out))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
 
-  ASSERT_EQ(
-      run_status(vigs("eval run " + out + " --gt " + path_ + " --no-plots --no-render", "eval")), 0)
-      << read_text(dir_.file("eval.err"));
+  ASSERT_TRUE(vigs_ok("eval run " + out + " --gt " + path_ + " --no-plots --no-render", "eval"));
   const std::string report = read_text(dir_.file("eval.out"));
   EXPECT_NE(report.find("\"pairs\": 61"), std::string::npos) << report;
   EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
@@ -90,23 +94,19 @@ TEST_F(ReplayCli, WritesAResultsDirThatEvalReads) {
 
 TEST_F(ReplayCli, FramesOptionLimitsTheReplay) {
   const std::string out = dir_.file("first10");
-  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out +
-                                " --frames 10 --guess previous_pose "
-                                "--quiet",
-                            "frames")),
-            0)
-      << read_text(dir_.file("frames.err"));
+  ASSERT_TRUE(vigs_ok("replay " + path_ + " --out " + out +
+                          " --frames 10 --guess previous_pose "
+                          "--quiet",
+                      "frames"));
   EXPECT_EQ(io::read_tum_trajectory(out + "/" + pipeline::kTrajectoryFile).size(), 10u);
   EXPECT_EQ(*pipeline::read_run_stats(out + "/" + pipeline::kStatsFile).frames, 10.0);
 }
 
 TEST_F(ReplayCli, SkipFramesStartsLate) {
   const std::string out = dir_.file("late");
-  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
-                                dir_.file("robot.yaml") + " --skip-frames 5 --quiet",
-                            "late")),
-            0)
-      << read_text(dir_.file("late.err"));
+  ASSERT_TRUE(vigs_ok("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
+                          " --skip-frames 5 --quiet",
+                      "late"));
   const auto poses = io::read_tum_trajectory(out + "/" + pipeline::kTrajectoryFile);
   ASSERT_EQ(poses.size(), 56u);  // 61 frames, the first 5 not tracked
   EXPECT_NEAR(poses.front().t_s, 0.25, 1e-9);
@@ -116,11 +116,9 @@ TEST_F(ReplayCli, SkipFramesStartsLate) {
 
 TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
   const std::string out = dir_.file("mapped");
-  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
-                                dir_.file("robot.yaml") + " --map-iterations 2 --quiet",
-                            "map")),
-            0)
-      << read_text(dir_.file("map.err"));
+  ASSERT_TRUE(vigs_ok("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
+                          " --map-iterations 2 --quiet",
+                      "map"));
   ASSERT_TRUE(std::filesystem::exists(out + "/" + pipeline::kMapFile));
   const pipeline::RunStats stats = pipeline::read_run_stats(out + "/" + pipeline::kStatsFile);
   ASSERT_TRUE(stats.gaussians.has_value());
@@ -128,8 +126,7 @@ TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
   EXPECT_NE(read_text(out + "/" + pipeline::kStatsFile).find("\"map_iterations\": 122"),
             std::string::npos);  // 2 after each of the 61 frames
 
-  ASSERT_EQ(run_status(vigs("eval run " + out + " --gt " + path_ + " --no-plots", "map_eval")), 0)
-      << read_text(dir_.file("map_eval.err"));
+  ASSERT_TRUE(vigs_ok("eval run " + out + " --gt " + path_ + " --no-plots", "map_eval"));
   const std::string report = read_text(dir_.file("map_eval.out"));
   const auto number_after = [&report](const std::string& key) {
     const std::size_t at = report.find("\"" + key + "\": ");
@@ -144,11 +141,9 @@ TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
 
 TEST_F(ReplayCli, MapBudgetBuildsAMapWithTheBudgetInItsStats) {
   const std::string out = dir_.file("budget");
-  ASSERT_EQ(run_status(vigs("replay " + path_ + " --out " + out + " --config " +
-                                dir_.file("robot.yaml") + " --frames 20 --map-budget-ms 15 --quiet",
-                            "budget")),
-            0)
-      << read_text(dir_.file("budget.err"));
+  ASSERT_TRUE(vigs_ok("replay " + path_ + " --out " + out + " --config " + dir_.file("robot.yaml") +
+                          " --frames 20 --map-budget-ms 15 --quiet",
+                      "budget"));
   ASSERT_TRUE(std::filesystem::exists(out + "/" + pipeline::kMapFile));
   const std::string stats = read_text(out + "/" + pipeline::kStatsFile);
   EXPECT_NE(stats.find("\"map_budget_ms\": 15"), std::string::npos) << stats;
