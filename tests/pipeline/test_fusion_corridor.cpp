@@ -103,7 +103,8 @@ class FusionCorridor : public ::testing::Test {
 };
 
 // Measured (odometry, no loop closure, first-seen local map): paper 1.75 m RMSE, 2.65 m max;
-// fused 0.105 m, 0.15 m (0.093 m with inertial.fused_extra_accel_noise_density 0.2).
+// fused 0.089 m, 0.12 m (0.105 m with inertial.fused_extra_accel_random_walk 0.03, 0.093 m
+// with that and fused_extra_accel_noise_density 0.2).
 TEST_F(FusionCorridor, FusedBeatsThePaperSchemeByFiveTimesWherePaperStopsShort) {
   const CorridorRun paper = run_with(FusionMode::paper, 0.0);
   const CorridorRun fused = run_with(FusionMode::fused, 0.0);
@@ -116,10 +117,11 @@ TEST_F(FusionCorridor, FusedBeatsThePaperSchemeByFiveTimesWherePaperStopsShort) 
 }
 
 // Measured with the default local map: paper 0.096 m RMSE, 0.15 m long over the stretch;
-// fused 0.095 m, 0.14 m long (0.052 m, 0.05 m with inertial.fused_extra_accel_noise_density
-// 0.2, the default until 2026-12-05: the larger process noise that keeps real-time starts on
-// track on the 3-minute routes lets GICP's weak pull along this corridor's axis in). Without
-// the replacement paper stops 3 m short (above).
+// fused 0.081 m, 0.11 m long (0.095 m, 0.14 m with inertial.fused_extra_accel_random_walk
+// 0.03; 0.052 m, 0.05 m with that and fused_extra_accel_noise_density 0.2, the defaults until
+// 2026-12-05: the larger process noise that keeps real-time starts on track on the 3-minute
+// routes lets GICP's weak pull along this corridor's axis in). Without the replacement paper
+// stops 3 m short (above).
 TEST_F(FusionCorridor, NearerPointsInTheLocalMapKeepGicpFromStoppingShort) {
   const double ratio = config::RobotConfig{}.tracking.local_map.replace_depth_ratio;
   ASSERT_GT(ratio, 0.0);
