@@ -129,7 +129,7 @@ TEST_F(FusionCorridor, NearerPointsInTheLocalMapKeepGicpFromStoppingShort) {
   const CorridorRun fused = run_with(FusionMode::fused, ratio);
   EXPECT_LT(std::abs(paper.corridor_shortfall_m), 0.4);
   EXPECT_LT(paper.ate_rmse_m, 0.2);
-  EXPECT_LT(fused.ate_rmse_m, 0.12);
+  EXPECT_LT(fused.ate_rmse_m, 0.10);
   EXPECT_LT(std::abs(fused.corridor_shortfall_m), 0.2);
 }
 
