@@ -265,6 +265,26 @@ TEST(FusedFilter, GyroAndAccelBiasEstimatesConverge) {
   EXPECT_EQ(g.bias_accel_mps2().norm(), 0.0);
 }
 
+/// The filter with `model` after `frames` frames of the synthetic motion: exact 20 Hz camera
+/// poses with a GICP-like information, and its 200 Hz IMU under gravity `g_w` with the
+/// accelerometer bias ba_at(frame).
+template <class BiasAt>
+InertialFrontend track_synthetic(const config::InertialSettings& model, int frames,
+                                 const Vector3d& g_w, BiasAt&& ba_at) {
+  const InertialFrontendOptions opt =
+      InertialFrontendOptions::from(config::ImuSettings{}, config::ExtrinsicsSettings{}, model);
+  InertialFrontend f(opt);
+  SyntheticMotion motion;
+  const Mat6 Y = gicp_like_information();
+  std::int64_t next_imu_ns = 0;
+  for (int k = 0; k < frames; ++k) {
+    const std::int64_t t = 7'000'000 + k * 50'000'000LL;
+    feed_imu(f, motion, t, g_w, Vector3d::Zero(), ba_at(k), next_imu_ns);
+    EXPECT_TRUE(f.update_fused(t, camera_pose(motion, t, opt.T_b_c), Y));
+  }
+  return f;
+}
+
 /// A map tilted against gravity: the camera poses are in a world whose vertical is off by
 /// ~0.7 deg (as a map started from a biased accelerometer, or drifted, is), so the IMU's
 /// specific force carries g sin(tilt) sideways in that world. With gravity's direction as a
@@ -279,17 +299,8 @@ TiltRun track_tilted_map(double tilt_sigma_rad) {
   const Vector3d g_map = geometry::so3_exp<double>(Vector3d(0.010, -0.007, 0.0)) * kGravity;
   config::InertialSettings model = exact_model_settings();
   model.fused_gravity_tilt_sigma_rad = tilt_sigma_rad;
-  const InertialFrontendOptions opt =
-      InertialFrontendOptions::from(config::ImuSettings{}, config::ExtrinsicsSettings{}, model);
-  InertialFrontend f(opt);
-  SyntheticMotion motion;
-  const Mat6 Y = gicp_like_information();
-  std::int64_t next_imu_ns = 0;
-  for (int k = 0; k < 600; ++k) {  // 30 s
-    const std::int64_t t = 7'000'000 + k * 50'000'000LL;
-    feed_imu(f, motion, t, g_map, Vector3d::Zero(), true_ba, next_imu_ns);
-    EXPECT_TRUE(f.update_fused(t, camera_pose(motion, t, opt.T_b_c), Y));
-  }
+  const InertialFrontend f =
+      track_synthetic(model, 600, g_map, [&](int) { return true_ba; });  // 30 s
   TiltRun r;
   r.ba_error_mps2 = (f.bias_accel_mps2() - true_ba).norm();
   const Vector3d g = f.gravity_w_mps2();
@@ -316,19 +327,10 @@ TEST(FusedFilter, GravityTiltStateFindsATiltedMapAndKeepsTheAccelBiasTrue) {
 /// estimate's error `after_s` seconds later, with the filter's settings `model`.
 double accel_bias_error_after_step(const config::InertialSettings& model, double after_s) {
   const Vector3d step(0.06, -0.05, 0.04);
-  const InertialFrontendOptions opt =
-      InertialFrontendOptions::from(config::ImuSettings{}, config::ExtrinsicsSettings{}, model);
-  InertialFrontend f(opt);
-  SyntheticMotion motion;
-  const Mat6 Y = gicp_like_information();
-  std::int64_t next_imu_ns = 0;
   const int step_frame = 200, end_frame = step_frame + static_cast<int>(after_s * 20.0);
-  for (int k = 0; k <= end_frame; ++k) {
-    const std::int64_t t = 7'000'000 + k * 50'000'000LL;
-    const Vector3d ba = k >= step_frame ? step : Vector3d::Zero();
-    feed_imu(f, motion, t, kGravity, Vector3d::Zero(), ba, next_imu_ns);
-    EXPECT_TRUE(f.update_fused(t, camera_pose(motion, t, opt.T_b_c), Y));
-  }
+  const InertialFrontend f =
+      track_synthetic(model, end_frame + 1, kGravity,
+                      [&](int k) -> Vector3d { return k >= step_frame ? step : Vector3d::Zero(); });
   const double err = (f.bias_accel_mps2() - step).norm() / step.norm();
   std::printf("bias walk %.3f m/s^3/sqrt(Hz): %.0f %% of the step left after %.1f s\n",
               model.fused_extra_accel_random_walk, 100.0 * err, after_s);
