@@ -28,8 +28,11 @@ void forward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int 
       __m256 Tr = one, c0 = zero, c1 = zero, c2 = zero, d = zero, last = zero;
       // lanes beyond the tile edge start finished
       __m256 done = _mm256_cmp_ps(lane, _mm256_set1_ps(static_cast<float>(lanes)), _CMP_GE_OQ);
+      const float run_lo = static_cast<float>(x0), run_hi = static_cast<float>(x0 + lanes - 1);
       for (int k = 0; k < count; ++k) {
         const TileGaussian<float>& g = gs[k];
+        // most of a tile's Gaussians miss a given row or half-row: two scalar tests, not eight
+        if (out_of_reach(g, run_lo, run_hi, fy)) continue;
         const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(g.x), px);
         const float dy = g.y - fy;
         // sigma = 0.5 * (ca dx^2 + cc dy^2) + cb dx dy, in the scalar kernel's order

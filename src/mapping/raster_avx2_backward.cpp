@@ -68,8 +68,10 @@ void backward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int
       const __m256 vdd = _mm256_load_ps(vd), vaa = _mm256_load_ps(va);
       const __m256 px = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(x0)), lane);
       __m256 Tr = Tf, b0 = zero, b1 = zero, b2 = zero, bd = zero;
+      const float run_lo = static_cast<float>(x0), run_hi = static_cast<float>(x0 + lanes - 1);
       for (int k = k_max - 1; k >= 0; --k) {
         const TileGaussian<float>& g = gs[k];
+        if (out_of_reach(g, run_lo, run_hi, fy)) continue;
         const __m256 active =
             _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(k)), lastv, _CMP_LT_OQ);
         const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(g.x), px);

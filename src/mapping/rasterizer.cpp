@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -139,16 +140,11 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   // square, and each tile it leaves costs every pixel of that tile a test in the forward and
   // backward passes. The render is the same: only tiles where no pixel passes the kernels'
   // test are left out (1 % and 0.01 px of slack for the kernels' rounding).
-  auto rect_of = [&](std::size_t i, int& x0, int& y0, int& x1, int& y1) {
+  // The reach is kept per visible Gaussian for the kernels' row and run skip (gather_tile).
+  auto rect_of = [&](std::size_t i, T rx, T ry, int& x0, int& y0, int& x1, int& y1) {
     const T r = T(proj_.radius[i]);
-    T rx = r, ry = r;
-    const T* cn = &proj_.conic[3 * i];
-    const T det = cn[0] * cn[2] - cn[1] * cn[1];
-    if (det > T(0)) {
-      const T cut2 = T(2) * sigma_cutoff(proj_.opacity[i], settings_.min_alpha);
-      rx = std::min(r, std::sqrt(std::max(T(0), cut2 * cn[2] / det)) * T(1.01) + T(0.01));
-      ry = std::min(r, std::sqrt(std::max(T(0), cut2 * cn[0] / det)) * T(1.01) + T(0.01));
-    }
+    rx = std::min(r, rx);
+    ry = std::min(r, ry);
     const T u = proj_.mean2d[2 * i], v = proj_.mean2d[2 * i + 1];
     x0 = std::max(0, static_cast<int>(std::floor((u - rx) / T(kTilePx))));
     y0 = std::max(0, static_cast<int>(std::floor((v - ry) / T(kTilePx))));
@@ -157,6 +153,10 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   };
   resize_by_eighths(visible_slot_, n);
   resize_by_eighths(visible_ids_, n);
+  std::size_t visible = 0;
+  for (const auto& [lo, hi] : ranges_)
+    for (std::size_t i = lo; i < hi; ++i) visible += proj_.radius[i] != 0 ? 1 : 0;
+  resize_by_eighths(reach_, 2 * visible);  // per visible Gaussian, not per Gaussian
   n_visible_ = 0;
   // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
   // before they are counted, so a map whose Gaussians cover too many tiles is a clear error, not
@@ -170,10 +170,15 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
         visible_slot_[i] = -1;
         continue;
       }
-      visible_ids_[static_cast<std::size_t>(n_visible_)] = static_cast<int>(i);
+      const auto slot = static_cast<std::size_t>(n_visible_);
+      visible_ids_[slot] = static_cast<int>(i);
       visible_slot_[i] = n_visible_++;
+      T& rx = reach_[2 * slot];
+      T& ry = reach_[2 * slot + 1];
+      kernel_reach(&proj_.conic[3 * i], sigma_cutoff(proj_.opacity[i], settings_.min_alpha), rx,
+                   ry);
       int x0, y0, x1, y1;
-      rect_of(i, x0, y0, x1, y1);
+      rect_of(i, rx, ry, x0, y0, x1, y1);
       if (x1 >= x0 && y1 >= y0) pairs += std::int64_t{x1 - x0 + 1} * (y1 - y0 + 1);
       if (pairs > kMaxTilePairs) {
         throw std::length_error("rasterizer: more than " + std::to_string(kMaxTilePairs) +
@@ -193,8 +198,9 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   for (const auto& [lo, hi] : ranges_)
     for (std::size_t i = lo; i < hi; ++i) {
       if (proj_.radius[i] == 0) continue;
+      const auto slot = static_cast<std::size_t>(visible_slot_[i]);
       int x0, y0, x1, y1;
-      rect_of(i, x0, y0, x1, y1);
+      rect_of(i, reach_[2 * slot], reach_[2 * slot + 1], x0, y0, x1, y1);
       for (int ty = y0; ty <= y1; ++ty)
         for (int tx = x0; tx <= x1; ++tx)
           tile_ids_[static_cast<std::size_t>(tile_cursor_[ty * tiles_x_ + tx]++)] =
@@ -232,6 +238,10 @@ void Rasterizer<T>::gather_tile(int tile, std::vector<TileGaussian<T>>& buf,
     tg.b = g.color_rgb[3 * i + 2];
     tg.z = proj_.depth[i];
     tg.sigma_cut = sigma_cutoff(tg.opacity, settings_.min_alpha);
+    const auto slot = 2 * static_cast<std::size_t>(visible_slot_[i]);
+    tg.reach_x = settings_.skip_out_of_reach ? reach_[slot] : std::numeric_limits<T>::infinity();
+    tg.reach_y =
+        settings_.skip_out_of_reach ? reach_[slot + 1] : std::numeric_limits<T>::infinity();
   }
 }
 
@@ -382,7 +392,7 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
 template <class T>
 std::size_t Rasterizer<T>::cache_bytes() const {
   std::size_t bytes = capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.opacity,
-                                     proj_.radius, tile_ids_, visible_slot_, visible_ids_);
+                                     proj_.radius, tile_ids_, visible_slot_, visible_ids_, reach_);
   for (const auto& v : thread_grad_) bytes += capacity_bytes(v);
   return bytes;
 }

@@ -90,8 +90,8 @@ class Rasterizer {
   static constexpr std::int64_t kMaxTilePairs = std::int64_t{1} << 28;
   /// Bytes held by this rasterizer's caches, from the current capacities: projection and
   /// visible slots (per Gaussian), tile lists (per Gaussian-tile pair), per-thread gradient
-  /// buffers (per visible Gaussian). Not the per-tile offsets nor the per-thread tile scratch
-  /// (sized by the fullest tile, not by the map).
+  /// buffers and kernel reach (per visible Gaussian). Not the per-tile offsets nor the per-thread
+  /// tile scratch (sized by the fullest tile, not by the map).
   [[nodiscard]] std::size_t cache_bytes() const;
   /// True when the last forward used the AVX2 kernels (backward uses them under the same
   /// condition: settings().use_simd, float, and a CPU with AVX2 and FMA).
@@ -115,7 +115,8 @@ class Rasterizer {
   std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread
   std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
   int n_visible_ = 0;
-  std::vector<int> visible_ids_;                  ///< slot -> Gaussian id
+  std::vector<int> visible_ids_;  ///< slot -> Gaussian id
+  std::vector<T> reach_;          ///< 2 per visible slot: kernel_reach across and down, pixels
   std::vector<std::vector<T>> thread_grad_;       ///< per thread, 10 per visible Gaussian
   std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
   bool used_simd_ = false;

@@ -2,8 +2,25 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
+
+#include "mapping/simd_axpy.hpp"
 
 namespace vigs::mapping {
+
+namespace {
+/// o[i] += w * s[i]: every filter pass below is made of these (AVX2 for floats where available).
+template <class T>
+inline void add_scaled(T* o, const T* s, T w, int n, bool simd) {
+  if constexpr (std::is_same_v<T, float>) {
+    if (simd) {
+      axpy(o, s, w, n);
+      return;
+    }
+  }
+  axpy_plain(o, s, w, n);
+}
+}  // namespace
 
 SsimWindow parse_ssim_window(const std::string& name) {
   if (name == "gaussian11") return SsimWindow::kGaussian11;
@@ -74,6 +91,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
   rows_.resize(static_cast<std::size_t>(nt) * 5 * w);
   partial_.assign(static_cast<std::size_t>(nt) * static_cast<std::size_t>(channels), 0.0);
   const T* win = win_.data();
+  const bool simd = opt_.use_simd;
   const std::size_t cs = static_cast<std::size_t>(channels);
   for (int c = 0; c < channels; ++c) {
     // horizontal pass of x, y, xx, yy, xy: deinterleave a row into 5 planes, then filter each
@@ -96,11 +114,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
                  static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
           const T* src = rowbuf + static_cast<std::size_t>(m) * w;
           for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
-          for (int k = 0; k < K; ++k) {
-            const T wk = win[k];
-            const T* sk = src + k;
-            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * sk[xx];
-          }
+          for (int k = 0; k < K; ++k) add_scaled(o, src + k, win[k], wv, simd);
         }
       }
     });
@@ -113,11 +127,9 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
                  static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
           const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh;
           for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
-          for (int k = 0; k < K; ++k) {
-            const T* s = src + static_cast<std::size_t>(r + k) * static_cast<std::size_t>(wv);
-            const T wk = win[k];
-            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * s[xx];
-          }
+          for (int k = 0; k < K; ++k)
+            add_scaled(o, src + static_cast<std::size_t>(r + k) * static_cast<std::size_t>(wv),
+                       win[k], wv, simd);
         }
         for (int xx = 0; xx < wv; ++xx) {
           const std::size_t p = static_cast<std::size_t>(r) * static_cast<std::size_t>(wv) +
@@ -153,10 +165,10 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
           for (int k = 0; k < K; ++k) {
             const int src_row = r - k;
             if (src_row < 0 || src_row >= hv) continue;
-            const T* s = g_.data() + static_cast<std::size_t>(m) * nv +
-                         static_cast<std::size_t>(src_row) * static_cast<std::size_t>(wv);
-            const T wk = win[k];
-            for (int xx = 0; xx < wv; ++xx) o[xx] += wk * s[xx];
+            add_scaled(o,
+                       g_.data() + static_cast<std::size_t>(m) * nv +
+                           static_cast<std::size_t>(src_row) * static_cast<std::size_t>(wv),
+                       win[k], wv, simd);
           }
         }
         T* back = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
@@ -165,11 +177,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
                          static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
           T* o = back + static_cast<std::size_t>(m) * w;
           for (std::size_t q = 0; q < w; ++q) o[q] = 0;
-          for (int k = 0; k < K; ++k) {
-            const T wk = win[k];
-            T* ok = o + k;
-            for (int xx = 0; xx < wv; ++xx) ok[xx] += wk * src[xx];
-          }
+          for (int k = 0; k < K; ++k) add_scaled(o + k, src, win[k], wv, simd);
         }
         for (std::size_t q = 0; q < w; ++q) {
           const std::size_t i =

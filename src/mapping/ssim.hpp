@@ -21,6 +21,7 @@ struct SsimOptions {
   SsimWindow window = SsimWindow::kGaussian11;
   bool sample_covariance = false;  ///< N/(N-1) correction (scikit-image's default)
   double data_range = 1.0;         ///< L: 1 for [0, 1] images, 255 for 8-bit values
+  bool use_simd = true;            ///< floats: AVX2 filters where the CPU has them (simd_axpy.hpp)
 };
 
 /// The normalised 1D window (11 taps, sigma 1.5; or 7 uniform taps).

@@ -3,6 +3,7 @@
 // into a contiguous array first so that the inner loop streams through memory.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mapping/raster_settings.hpp"
 
@@ -10,18 +11,46 @@ namespace vigs::mapping {
 
 template <class T>
 struct TileGaussian {
-  T x, y;        ///< mean2d, pixels
-  T ca, cb, cc;  ///< conic
-  T opacity;     ///< sigmoid(logit)
-  T r, g, b;     ///< colour
-  T z;           ///< depth, metres
-  T sigma_cut;   ///< alpha < min_alpha exactly when sigma > sigma_cut: skips exp far away
+  T x, y;              ///< mean2d, pixels
+  T ca, cb, cc;        ///< conic
+  T opacity;           ///< sigmoid(logit)
+  T r, g, b;           ///< colour
+  T z;                 ///< depth, metres
+  T sigma_cut;         ///< alpha < min_alpha exactly when sigma > sigma_cut: skips exp far away
+  T reach_x, reach_y;  ///< |dx|, |dy| beyond which sigma > sigma_cut (kernel_reach), pixels
 };
 
 /// ln(opacity / min_alpha), or a bound past which exp underflows when min_alpha is 0.
 template <class T>
 inline T sigma_cutoff(T opacity, double min_alpha) {
   return min_alpha > 0 ? std::log(opacity / T(min_alpha)) : T(80);
+}
+
+/// How far from its centre, across (rx) and down (ry) in pixels, a Gaussian can pass the
+/// kernels' test sigma = d^T conic d / 2 <= sigma_cut at all: the ellipse's half extents
+/// sqrt(2 sigma_cut Sigma_xx) and sqrt(2 sigma_cut Sigma_yy) (Sigma = conic^-1), with 1 % and
+/// 0.01 px of slack for the kernels' rounding. Infinite when the conic is not positive
+/// definite (no bound). Used to bin Gaussians into tiles and, inside a tile, to skip a row or
+/// an 8-pixel run no pixel of which the Gaussian can reach: both leave the render unchanged.
+template <class T>
+inline void kernel_reach(const T conic[3], T sigma_cut, T& rx, T& ry) {
+  const T det = conic[0] * conic[2] - conic[1] * conic[1];
+  if (!(det > T(0)) || !(conic[0] > T(0))) {
+    rx = ry = std::numeric_limits<T>::infinity();
+    return;
+  }
+  const T cut2 = T(2) * std::max(T(0), sigma_cut);
+  rx = std::sqrt(cut2 * conic[2] / det) * T(1.01) + T(0.01);
+  ry = std::sqrt(cut2 * conic[0] / det) * T(1.01) + T(0.01);
+}
+
+/// True when a Gaussian cannot reach any pixel of the run [x_lo, x_hi] of row y (centre and
+/// reach as in TileGaussian): the kernels skip it there without evaluating it. Always inlined:
+/// the AVX2 kernels' translation units (-mavx2) call it too, and an out-of-line copy compiled
+/// there could be the one the linker keeps for the portable kernels.
+template <class T>
+[[gnu::always_inline]] inline bool out_of_reach(const TileGaussian<T>& g, T x_lo, T x_hi, T y) {
+  return std::abs(g.y - y) > g.reach_y || g.x + g.reach_x < x_lo || g.x - g.reach_x > x_hi;
 }
 
 /// Output pointers of one render, row-major per pixel.
@@ -49,6 +78,7 @@ inline void forward_tile_scalar(const TileRect& rect, const TileGaussian<T>* gs,
       int last = 0;
       for (int k = 0; k < count; ++k) {
         const TileGaussian<T>& g = gs[k];
+        if (out_of_reach(g, T(px), T(px), T(py))) continue;
         const T dx = g.x - T(px), dy = g.y - T(py);
         const T sigma = T(0.5) * (g.ca * dx * dx + g.cc * dy * dy) + g.cb * dx * dy;
         if (sigma < T(0) || sigma > g.sigma_cut) continue;
@@ -102,6 +132,7 @@ inline void backward_tile_scalar(const TileRect& rect, const TileGaussian<T>* gs
       T b0 = 0, b1 = 0, b2 = 0, bd = 0;
       for (int k = last - 1; k >= 0; --k) {
         const TileGaussian<T>& g = gs[k];
+        if (out_of_reach(g, T(px), T(px), T(py))) continue;
         const T dx = g.x - T(px), dy = g.y - T(py);
         const T sigma = T(0.5) * (g.ca * dx * dx + g.cc * dy * dy) + g.cb * dx * dy;
         if (sigma < T(0) || sigma > g.sigma_cut) continue;

@@ -3,14 +3,23 @@
 // scalar reference of the same math (Reference/...), so the ratio is meaningful on a shared
 // machine. The CPU column is process CPU time (all threads), the wall column real time.
 // Counters: gaussians, visible tile pairs, bytes per Gaussian. BM_IterationLargeMap: an
-// iteration on a map twenty rooms long, Adam dense against visible-only.
+// iteration on a map twenty rooms long, Adam dense against visible-only. BM_OfficeMap: the
+// simulated office at 720x480 as the live mapper inserts it (keyframes at stride 4, the
+// footprint rule, the insertion gate), rendered from a view between keyframes, with the
+// kernels' out-of-reach skip on and off (the same render, bit for bit).
 #include <benchmark/benchmark.h>
 
 #include <map>
 #include <memory>
 #include <random>
 
+#include "core/config/robot_config.hpp"
+#include "mapping/insertion.hpp"
+#include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
+#include "mapping/rgbd_keyframe.hpp"
+#include "mapping/ssim.hpp"
+#include "sim/simulator.hpp"
 #include "synthetic_room.hpp"
 
 namespace {
@@ -154,6 +163,109 @@ void BM_IterationLargeMap(benchmark::State& state) {
   state.counters["visible"] = static_cast<double>(opt.rasterizer().visible_ids().size());
 }
 
+/// The office at 720x480, no people: keyframes every 0.3 s from 1 s to 6 s inserted at stride 4
+/// with the footprint rule behind the insertion gate (as mapper.cpp does, without the far
+/// field), and the recorded view at 4.15 s (between two keyframes) to render and train on.
+struct OfficeScene {
+  mapping::GaussianMap map;
+  PinholeCamera k;
+  Eigen::Isometry3d T_w_c;
+  std::vector<float> rgb, depth;
+};
+
+const OfficeScene& office_scene() {
+  static const OfficeScene scene = [] {
+    OfficeScene s;
+    config::RobotConfig cfg;
+    cfg.sim.preset = "office";
+    cfg.sim.humans = 0;
+    cfg.sim.seconds = 7.0;
+    sim::Simulator simulator(cfg);
+    s.k = PinholeCamera::from_settings(cfg.camera);
+    mapping::GaussianInserter inserter(mapping::InsertSettings{});
+    mapping::Rasterizer<float> gate_ras;
+    mapping::RenderResult<float> gate_render;
+    std::vector<char> keep;
+    sim::RgbdFrame f;
+    for (int i = 0; i <= 16; ++i) {
+      const double t = 1.0 + 0.3 * i;
+      simulator.render_at(t, 1, f);
+      ImageU8 rgb(f.width, f.height, 3);
+      rgb.data = f.color;
+      ImageF32 depth(f.width, f.height, 1);
+      depth.data = f.depth_m;
+      const Eigen::Isometry3d T_w_c = simulator.camera_pose(t);
+      mapping::KeyframeGaussians kf = mapping::keyframe_from_rgbd(s.k, rgb, depth, T_w_c);
+      const auto cam = mapping::RenderCamera::from(s.k, T_w_c);
+      if (s.map.size() > 0) {
+        gate_ras.forward(s.map, cam, gate_render);
+        mapping::gate_points(kf, cam, gate_render, mapping::GateSettings{}, keep);
+        inserter.insert(s.map, kf, &keep);
+      } else {
+        inserter.insert(s.map, kf);
+      }
+    }
+    simulator.render_at(4.15, 2, f);
+    s.T_w_c = simulator.camera_pose(4.15);
+    s.rgb.resize(f.color.size());
+    for (std::size_t i = 0; i < s.rgb.size(); ++i) s.rgb[i] = f.color[i] / 255.0f;
+    s.depth = f.depth_m;
+    return s;
+  }();
+  return scene;
+}
+
+/// range(0): 0 forward, 1 forward + backward (the rasterizer alone), 2 a whole optimiser
+/// iteration; range(1): the kernels' out-of-reach skip (1, the default) or not (0, baseline).
+void BM_OfficeMap(benchmark::State& state) {
+  const OfficeScene& s = office_scene();
+  const int what = static_cast<int>(state.range(0));
+  vigs::rt::WorkerTeam pool(2);
+  mapping::RasterSettings rs;
+  rs.skip_out_of_reach = state.range(1) != 0;
+  const auto cam = mapping::RenderCamera::from(s.k, s.T_w_c);
+  if (what == 2) {
+    config::MappingSettings ms;
+    ms.prune_every = 1000000;
+    mapping::MapOptimizer opt(ms, &pool);
+    opt.rasterizer().settings() = rs;
+    mapping::GaussianMap map = s.map;
+    const mapping::TrainingView view{cam, s.rgb.data(), s.depth.data()};
+    for (auto _ : state) benchmark::DoNotOptimize(opt.iterate(map, view).total);
+    state.counters["tile_pairs"] = static_cast<double>(opt.rasterizer().tile_pairs());
+  } else {
+    mapping::Rasterizer<float> ras(rs, &pool);
+    mapping::RenderResult<float> out;
+    ras.forward(s.map, cam, out);
+    std::vector<float> vc(out.color.size()), vd(out.depth.size());
+    for (std::size_t i = 0; i < vc.size(); ++i) vc[i] = out.color[i] - s.rgb[i];
+    for (std::size_t i = 0; i < vd.size(); ++i) vd[i] = s.depth[i] > 0 ? 0.1f : 0.0f;
+    mapping::GaussianMap grad;
+    for (auto _ : state) {
+      ras.forward(s.map, cam, out);
+      if (what == 1) ras.backward(s.map, cam, out, vc.data(), vd.data(), nullptr, grad);
+      benchmark::DoNotOptimize(out.color.data());
+    }
+    state.counters["tile_pairs"] = static_cast<double>(ras.tile_pairs());
+  }
+  state.counters["gaussians"] = static_cast<double>(s.map.size());
+}
+
+/// SSIM and its gradient (the loss's) on the office view at 720x480 against a shifted copy,
+/// AVX2 filters (range(0) = 1) against the plain loop (0).
+void BM_Ssim720(benchmark::State& state) {
+  const OfficeScene& s = office_scene();
+  vigs::rt::WorkerTeam pool(2);
+  mapping::SsimOptions o;
+  o.use_simd = state.range(0) != 0;
+  mapping::Ssim<float> ssim(o, &pool);
+  std::vector<float> x(s.rgb.size()), grad(s.rgb.size());
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = s.rgb[(i + 3 * 721) % x.size()];
+  for (auto _ : state)
+    benchmark::DoNotOptimize(ssim.evaluate(x.data(), s.rgb.data(), s.k.width_px, s.k.height_px, 3,
+                                           nullptr, grad.data()));
+}
+
 void args(benchmark::internal::Benchmark* b) {
   for (int w : {320, 640})
     for (int op : {0, 1}) b->Args({w, op});
@@ -176,6 +288,21 @@ BENCHMARK(BM_IterationLargeMap)
     ->Args({19, 1, 0})
     ->Args({19, 1, 1})
     ->ArgNames({"copies", "visible_only", "blocks"})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
+BENCHMARK(BM_OfficeMap)
+    ->ArgsProduct({{0, 1, 2}, {1, 0}})
+    ->ArgNames({"pass", "skip"})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
+BENCHMARK(BM_Ssim720)
+    ->ArgName("simd")
+    ->Arg(1)
+    ->Arg(0)
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();

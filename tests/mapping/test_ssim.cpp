@@ -1,10 +1,15 @@
 // SSIM and PSNR against the published reference values in ../shared/data/README.md.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "io/image_io.hpp"
 #include "mapping/image_metrics.hpp"
+#include "mapping/raster_simd.hpp"
+#include "mapping/ssim.hpp"
 
 namespace vigs::mapping {
 namespace {
@@ -48,6 +53,30 @@ TEST(MappingSsim, IdenticalImagesAndBadInput) {
   EXPECT_THROW(ssim_u8(a, small, SsimWindow::kGaussian11), std::invalid_argument);
   EXPECT_THROW(ssim_u8(small, small, SsimWindow::kGaussian11), std::invalid_argument);
   EXPECT_THROW(parse_ssim_window("box3"), std::invalid_argument);
+}
+
+TEST(MappingSsim, Avx2FiltersMatchThePlainLoopInFloat) {
+  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 on this CPU/architecture";
+  const auto a = io::read_image_u8(kImages + "kodim10.png");
+  const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
+  std::vector<float> x(a.data.size()), y(b.data.size());
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.data[i] / 255.0f;
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = b.data[i] / 255.0f;
+  SsimOptions plain_options;
+  plain_options.use_simd = false;
+  Ssim<float> simd, plain(plain_options);
+  std::vector<float> gs(x.size()), gp(x.size());
+  const float vs = simd.evaluate(x.data(), y.data(), a.width, a.height, 3, nullptr, gs.data());
+  const float vp = plain.evaluate(x.data(), y.data(), a.width, a.height, 3, nullptr, gp.data());
+  EXPECT_NEAR(vs, vp, 1e-5f);
+  EXPECT_NEAR(vs, 0.7857f, 1e-3f);
+  float scale = 0, worst = 0;
+  for (std::size_t i = 0; i < gp.size(); ++i) {
+    scale = std::max(scale, std::abs(gp[i]));
+    worst = std::max(worst, std::abs(gs[i] - gp[i]));
+  }
+  EXPECT_GT(scale, 0.0f);
+  EXPECT_LT(worst, 1e-4f * scale);
 }
 
 }  // namespace

@@ -1,0 +1,101 @@
+// The blending kernels skip a Gaussian for a row or an 8-pixel run it cannot reach
+// (kernel_reach, RasterSettings::skip_out_of_reach). The bound must hold (every pixel that passes
+// the kernels' test is inside it) and be tight (else it skips nothing), and the renders and
+// gradients with the skip must be bit-identical to those without.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "mapping/raster_simd.hpp"
+#include "mapping/rasterizer.hpp"
+#include "test_scene.hpp"
+
+namespace vigs::mapping {
+namespace {
+
+TEST(KernelReach, BoundsTheEllipseTheKernelsBlendAndIsTight) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    // a random positive definite 2D covariance, inverted into the kernels' conic
+    const double sx = 0.5 + 20 * u(rng), sy = 0.3 + 5 * u(rng), th = 3.2 * u(rng);
+    const double c = std::cos(th), s = std::sin(th);
+    const double a = c * c * sx * sx + s * s * sy * sy + 0.3;
+    const double b = c * s * (sx * sx - sy * sy);
+    const double d = s * s * sx * sx + c * c * sy * sy + 0.3;
+    const double det = a * d - b * b;
+    const float conic[3] = {static_cast<float>(d / det), static_cast<float>(-b / det),
+                            static_cast<float>(a / det)};
+    const float opacity = static_cast<float>(0.02 + 0.97 * u(rng));
+    const float cut = sigma_cutoff(opacity, 1.0 / 255.0);
+    float rx = 0, ry = 0;
+    kernel_reach(conic, cut, rx, ry);
+    // the farthest pixel offsets (quarter-pixel grid) that pass sigma <= cut
+    float far_x = 0, far_y = 0;
+    const int lim_x = static_cast<int>(4 * (rx + 2)), lim_y = static_cast<int>(4 * (ry + 2));
+    for (int j = -lim_y; j <= lim_y; ++j)
+      for (int i = -lim_x; i <= lim_x; ++i) {
+        const float dx = 0.25f * static_cast<float>(i), dy = 0.25f * static_cast<float>(j);
+        const float sigma = 0.5f * (conic[0] * dx * dx + conic[2] * dy * dy) + conic[1] * dx * dy;
+        if (sigma < 0 || sigma > cut) continue;
+        far_x = std::max(far_x, std::abs(dx));
+        far_y = std::max(far_y, std::abs(dy));
+      }
+    ASSERT_LE(far_x, rx) << "trial " << trial;
+    ASSERT_LE(far_y, ry) << "trial " << trial;
+    // tight: within the grid step and the 1 % slack of the true extent
+    EXPECT_GT(far_x, 0.98f * rx - 0.3f) << "trial " << trial;
+    EXPECT_GT(far_y, 0.98f * ry - 0.3f) << "trial " << trial;
+  }
+  float rx = 0, ry = 0;
+  const float not_pd[3] = {1.0f, 2.0f, 1.0f};
+  kernel_reach(not_pd, 5.0f, rx, ry);
+  EXPECT_TRUE(std::isinf(rx) && std::isinf(ry));  // no bound where the kernels' test has none
+}
+
+void expect_same_with_and_without_skip(bool simd) {
+  const RenderCamera cam = test::small_camera(200, 150, 160.0);
+  // small and elongated Gaussians, faint and opaque: most miss most rows of their tiles
+  const GaussianMap g = test::random_gaussians<float>(2500, 11, 0.02, 0.99, -4.5, -1.5);
+  RasterSettings with, without;
+  with.use_simd = without.use_simd = simd;
+  without.skip_out_of_reach = false;
+  Rasterizer<float> ra(with), rb(without);
+  RenderResult<float> a, b;
+  ra.forward(g, cam, a);
+  rb.forward(g, cam, b);
+  ASSERT_EQ(ra.used_simd(), simd && avx2_kernel_available());
+  EXPECT_EQ(a.color, b.color);
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_EQ(a.final_T, b.final_T);
+  EXPECT_EQ(a.n_contrib, b.n_contrib);
+  std::vector<float> vc(a.color.size()), vd(a.depth.size()), va(a.depth.size());
+  for (std::size_t i = 0; i < vc.size(); ++i) vc[i] = 0.01f * static_cast<float>(i % 11) - 0.05f;
+  for (std::size_t i = 0; i < vd.size(); ++i) vd[i] = 0.002f * static_cast<float>(i % 5) - 0.004f;
+  for (std::size_t i = 0; i < va.size(); ++i) va[i] = 0.003f * static_cast<float>(i % 3) - 0.003f;
+  GaussianMap ga, gb;
+  ra.backward(g, cam, a, vc.data(), vd.data(), va.data(), ga);
+  rb.backward(g, cam, b, vc.data(), vd.data(), va.data(), gb);
+  EXPECT_EQ(ga.mean_w, gb.mean_w);
+  EXPECT_EQ(ga.log_scale, gb.log_scale);
+  EXPECT_EQ(ga.quat_wxyz, gb.quat_wxyz);
+  EXPECT_EQ(ga.opacity_logit, gb.opacity_logit);
+  EXPECT_EQ(ga.color_rgb, gb.color_rgb);
+  // the scene must give the skip something to do, or the test shows nothing
+  double lit = 0;
+  for (float t : a.final_T) lit += t < 0.99f ? 1 : 0;
+  EXPECT_GT(lit, 0.5 * static_cast<double>(a.final_T.size()));
+}
+
+TEST(KernelReach, ScalarKernelsGiveBitIdenticalRenderAndGradients) {
+  expect_same_with_and_without_skip(false);
+}
+
+TEST(KernelReach, Avx2KernelsGiveBitIdenticalRenderAndGradients) {
+  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
+  expect_same_with_and_without_skip(true);
+}
+
+}  // namespace
+}  // namespace vigs::mapping
