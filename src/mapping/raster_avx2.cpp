@@ -13,26 +13,52 @@
 
 namespace vigs::mapping {
 
+void fill_tile_runs_avx2(const TileRect& rect, const TileGaussian<float>* gs, int count,
+                         int* runs) {
+  // Without branches (an index is written, then kept only if the Gaussian reaches the run), so
+  // that neither kernel has an unpredictable skip branch per Gaussian and run.
+  const int n_runs = tile_runs(rect);
+  int* sizes = runs;
+  int* lists = runs + n_runs;
+  for (int r = 0; r < n_runs; ++r) sizes[r] = 0;
+  for (int k = 0; k < count; ++k) {
+    const TileGaussian<float>& g = gs[k];
+    int run = 0;
+    for (int py = rect.y0; py < rect.y1; ++py) {
+      const float fy = static_cast<float>(py);
+      for (int x0 = rect.x0; x0 < rect.x1; x0 += 8, ++run) {
+        const int x1 = x0 + (rect.x1 - x0 < 8 ? rect.x1 - x0 : 8) - 1;
+        const bool reach = !out_of_reach(g, static_cast<float>(x0), static_cast<float>(x1), fy);
+        lists[run * count + sizes[run]] = k;
+        sizes[run] += reach ? 1 : 0;
+      }
+    }
+  }
+}
+
 void forward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int count,
-                       const RasterSettings& s, PixelOutputs<float>& out) {
+                       const RasterSettings& s, PixelOutputs<float>& out, int* runs) {
   const __m256 min_alpha = _mm256_set1_ps(static_cast<float>(s.min_alpha));
   const __m256 max_alpha = _mm256_set1_ps(static_cast<float>(s.max_alpha));
   const __m256 min_T = _mm256_set1_ps(static_cast<float>(s.min_transmittance));
   const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
   const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
+  fill_tile_runs_avx2(rect, gs, count, runs);
+  const int n_runs = tile_runs(rect);
+  int run = 0;
   for (int py = rect.y0; py < rect.y1; ++py) {
     const float fy = static_cast<float>(py);
-    for (int x0 = rect.x0; x0 < rect.x1; x0 += 8) {
+    for (int x0 = rect.x0; x0 < rect.x1; x0 += 8, ++run) {
+      const int* list = runs + n_runs + run * count;
+      const int n_list = runs[run];
       const int lanes = std::min(8, rect.x1 - x0);
       const __m256 px = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(x0)), lane);
       __m256 Tr = one, c0 = zero, c1 = zero, c2 = zero, d = zero, last = zero;
       // lanes beyond the tile edge start finished
       __m256 done = _mm256_cmp_ps(lane, _mm256_set1_ps(static_cast<float>(lanes)), _CMP_GE_OQ);
-      const float run_lo = static_cast<float>(x0), run_hi = static_cast<float>(x0 + lanes - 1);
-      for (int k = 0; k < count; ++k) {
+      for (int j = 0; j < n_list; ++j) {
+        const int k = list[j];
         const TileGaussian<float>& g = gs[k];
-        // most of a tile's Gaussians miss a given row or half-row: two scalar tests, not eight
-        if (out_of_reach(g, run_lo, run_hi, fy)) continue;
         const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(g.x), px);
         const float dy = g.y - fy;
         // sigma = 0.5 * (ca dx^2 + cc dy^2) + cb dx dy, in the scalar kernel's order

@@ -35,15 +35,18 @@ constexpr int kFields = 10;  // TileGrad: x y ca cb cc opacity r g b z
 void backward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int count,
                         const RasterSettings& s, int width, const float* final_T_img,
                         const int* n_contrib_img, const float* v_color, const float* v_depth,
-                        const float* v_alpha, TileGrad<float>* grads, float* scratch) {
+                        const float* v_alpha, TileGrad<float>* grads, float* scratch, int* runs) {
   std::fill(scratch, scratch + static_cast<std::size_t>(count) * kFields * 8, 0.0f);
   const __m256 min_alpha = _mm256_set1_ps(static_cast<float>(s.min_alpha));
   const __m256 max_alpha = _mm256_set1_ps(static_cast<float>(s.max_alpha));
   const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
   const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
+  fill_tile_runs_avx2(rect, gs, count, runs);
+  const int n_runs = tile_runs(rect);
+  int run = 0;
   for (int py = rect.y0; py < rect.y1; ++py) {
     const float fy = static_cast<float>(py);
-    for (int x0 = rect.x0; x0 < rect.x1; x0 += 8) {
+    for (int x0 = rect.x0; x0 < rect.x1; x0 += 8, ++run) {
       const int lanes = std::min(8, rect.x1 - x0);
       alignas(32) float last_f[8] = {}, tf[8], c0[8] = {}, c1[8] = {}, c2[8] = {}, vd[8] = {},
                         va[8] = {};
@@ -68,10 +71,13 @@ void backward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int
       const __m256 vdd = _mm256_load_ps(vd), vaa = _mm256_load_ps(va);
       const __m256 px = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(x0)), lane);
       __m256 Tr = Tf, b0 = zero, b1 = zero, b2 = zero, bd = zero;
-      const float run_lo = static_cast<float>(x0), run_hi = static_cast<float>(x0 + lanes - 1);
-      for (int k = k_max - 1; k >= 0; --k) {
+      // the run's reaching Gaussians below k_max, in reverse
+      const int* list = runs + n_runs + run * count;
+      int j = runs[run] - 1;
+      while (j >= 0 && list[j] >= k_max) --j;
+      for (; j >= 0; --j) {
+        const int k = list[j];
         const TileGaussian<float>& g = gs[k];
-        if (out_of_reach(g, run_lo, run_hi, fy)) continue;
         const __m256 active =
             _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(k)), lastv, _CMP_LT_OQ);
         const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(g.x), px);

@@ -35,6 +35,7 @@ Rasterizer<T>::Rasterizer(RasterSettings settings, rt::WorkerTeam* pool)
   tile_grad_.resize(n);
   thread_grad_.resize(n);
   simd_scratch_.resize(n);
+  run_scratch_.resize(n);
 }
 
 template <class T>
@@ -274,7 +275,9 @@ void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
       const int count = static_cast<int>(buf.size());
       if constexpr (std::is_same_v<T, float>) {
         if (simd) {
-          forward_tile_avx2(rect, buf.data(), count, settings_, po);
+          auto& runs = run_scratch_[static_cast<std::size_t>(t)];
+          runs.resize(tile_run_scratch(rect, count));
+          forward_tile_avx2(rect, buf.data(), count, settings_, po, runs.data());
           continue;
         }
       }
@@ -310,9 +313,11 @@ void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const Rende
         if (simd) {
           auto& scratch = simd_scratch_[static_cast<std::size_t>(t)];
           scratch.resize(static_cast<std::size_t>(e - b) * 80);
+          auto& runs = run_scratch_[static_cast<std::size_t>(t)];
+          runs.resize(tile_run_scratch(rect, e - b));
           backward_tile_avx2(rect, buf.data(), e - b, settings_, out.width, out.final_T.data(),
                              out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data(),
-                             scratch.data());
+                             scratch.data(), runs.data());
           done = true;
         }
       }

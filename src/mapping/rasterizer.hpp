@@ -119,6 +119,7 @@ class Rasterizer {
   std::vector<T> reach_;          ///< 2 per visible slot: kernel_reach across and down, pixels
   std::vector<std::vector<T>> thread_grad_;       ///< per thread, 10 per visible Gaussian
   std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
+  std::vector<std::vector<int>> run_scratch_;     ///< per thread, AVX2 per-run Gaussian lists
   bool used_simd_ = false;
   std::size_t culled_blocks_ = 0;
   std::vector<char> block_projected_;  ///< per block of the last forward with blocks
