@@ -27,7 +27,7 @@ void fill_tile_runs_avx2(const TileRect& rect, const TileGaussian<float>* gs, in
     for (int py = rect.y0; py < rect.y1; ++py) {
       const float fy = static_cast<float>(py);
       for (int x0 = rect.x0; x0 < rect.x1; x0 += 8, ++run) {
-        const int x1 = x0 + (rect.x1 - x0 < 8 ? rect.x1 - x0 : 8) - 1;
+        const int x1 = x0 + std::min(8, rect.x1 - x0) - 1;
         const bool reach = !out_of_reach(g, static_cast<float>(x0), static_cast<float>(x1), fy);
         lists[run * count + sizes[run]] = k;
         sizes[run] += reach ? 1 : 0;

@@ -15,7 +15,6 @@ void forward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int 
                        const RasterSettings& s, PixelOutputs<float>& out, int*) {
   forward_tile_scalar(rect, gs, count, s, out);
 }
-void fill_tile_runs_avx2(const TileRect&, const TileGaussian<float>*, int, int*) {}
 void backward_tile_avx2(const TileRect& rect, const TileGaussian<float>* gs, int,
                         const RasterSettings& s, int width, const float* final_T_img,
                         const int* n_contrib_img, const float* v_color, const float* v_depth,

@@ -70,13 +70,10 @@ void expect_same_with_and_without_skip(bool simd) {
   EXPECT_EQ(a.depth, b.depth);
   EXPECT_EQ(a.final_T, b.final_T);
   EXPECT_EQ(a.n_contrib, b.n_contrib);
-  std::vector<float> vc(a.color.size()), vd(a.depth.size()), va(a.depth.size());
-  for (std::size_t i = 0; i < vc.size(); ++i) vc[i] = 0.01f * static_cast<float>(i % 11) - 0.05f;
-  for (std::size_t i = 0; i < vd.size(); ++i) vd[i] = 0.002f * static_cast<float>(i % 5) - 0.004f;
-  for (std::size_t i = 0; i < va.size(); ++i) va[i] = 0.003f * static_cast<float>(i % 3) - 0.003f;
+  const test::PixelGradients seed(a.depth.size());
   GaussianMap ga, gb;
-  ra.backward(g, cam, a, vc.data(), vd.data(), va.data(), ga);
-  rb.backward(g, cam, b, vc.data(), vd.data(), va.data(), gb);
+  ra.backward(g, cam, a, seed.color.data(), seed.depth.data(), seed.alpha.data(), ga);
+  rb.backward(g, cam, b, seed.color.data(), seed.depth.data(), seed.alpha.data(), gb);
   EXPECT_EQ(ga.mean_w, gb.mean_w);
   EXPECT_EQ(ga.log_scale, gb.log_scale);
   EXPECT_EQ(ga.quat_wxyz, gb.quat_wxyz);

@@ -179,13 +179,10 @@ TEST(MappingRender, SimdBackwardMatchesScalarGradients) {
   scalar.forward(g, cam, a);
   simd.forward(g, cam, b);
   ASSERT_EQ(a.n_contrib, b.n_contrib);
-  std::vector<float> vc(a.color.size()), vd(a.depth.size()), va(a.depth.size());
-  for (std::size_t i = 0; i < vc.size(); ++i) vc[i] = 0.01f * static_cast<float>(i % 11) - 0.05f;
-  for (std::size_t i = 0; i < vd.size(); ++i) vd[i] = 0.002f * static_cast<float>(i % 5) - 0.004f;
-  for (std::size_t i = 0; i < va.size(); ++i) va[i] = 0.003f * static_cast<float>(i % 3) - 0.003f;
+  const test::PixelGradients seed(a.depth.size());
   GaussianMap ga, gb;
-  scalar.backward(g, cam, a, vc.data(), vd.data(), va.data(), ga);
-  simd.backward(g, cam, b, vc.data(), vd.data(), va.data(), gb);
+  scalar.backward(g, cam, a, seed.color.data(), seed.depth.data(), seed.alpha.data(), ga);
+  simd.backward(g, cam, b, seed.color.data(), seed.depth.data(), seed.alpha.data(), gb);
   auto check = [](const std::vector<float>& x, const std::vector<float>& y, const char* name) {
     float scale = 0;
     for (float v : x) scale = std::max(scale, std::abs(v));

@@ -2,6 +2,7 @@
 // Small random scenes shared by the mapping tests.
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "mapping/gaussian_map.hpp"
 #include "mapping/render_camera.hpp"
@@ -39,5 +40,19 @@ GaussianParams<T> random_gaussians(int n, unsigned seed, double op_lo = 0.3, dou
   }
   return g;
 }
+
+/// Fixed, varied per-pixel loss gradients for a render of `pixels` pixels (colour 3 per pixel,
+/// depth and accumulated opacity 1 each), for backward passes compared against each other.
+struct PixelGradients {
+  std::vector<float> color, depth, alpha;
+  explicit PixelGradients(std::size_t pixels) : color(3 * pixels), depth(pixels), alpha(pixels) {
+    for (std::size_t i = 0; i < color.size(); ++i)
+      color[i] = 0.01f * static_cast<float>(i % 11) - 0.05f;
+    for (std::size_t i = 0; i < depth.size(); ++i)
+      depth[i] = 0.002f * static_cast<float>(i % 5) - 0.004f;
+    for (std::size_t i = 0; i < alpha.size(); ++i)
+      alpha[i] = 0.003f * static_cast<float>(i % 3) - 0.003f;
+  }
+};
 
 }  // namespace vigs::mapping::test
