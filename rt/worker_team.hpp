@@ -90,6 +90,25 @@ class WorkerTeam {
              [](void* f, int m) { (*static_cast<F*>(f))(m); });
   }
 
+  // Calls fn(m, i) once for every i in [0, n): items are claimed one at a time, in ascending
+  // order, by whichever member is free (an atomic ticket), so the partition is not fixed.
+  // For work whose result per item does not depend on the member that computed it (each item
+  // writes its own outputs; members only own scratch): then a member the scheduler preempts
+  // holds up the join by at most one item, where a fixed partition waits for its whole share.
+  // The mapper's team needs this: its threads are SCHED_IDLE and the tracker's SCHED_FIFO
+  // threads take either CPU at any moment. Sums over items stay fixed-order by writing per-item
+  // partials and reducing them afterwards (rasterizer backward, SSIM). One claim per item: keep
+  // items at tens of microseconds or more (chunk finer work).
+  template <class Fn>
+  void run_claimed(std::size_t n, Fn&& fn) {
+    claim_.store(0, std::memory_order_relaxed);  // published by run()'s release of the job
+    run([&](int m) {
+      for (std::size_t i = claim_.fetch_add(1, std::memory_order_relaxed); i < n;
+           i = claim_.fetch_add(1, std::memory_order_relaxed))
+        fn(m, i);
+    });
+  }
+
   // Calls fn(i) for member m's items of [0, n): blocks of `block` items dealt round robin (block
   // b goes to member b % members), so uneven work spreads evenly while the partition stays fixed.
   template <class Fn>
@@ -135,6 +154,7 @@ class WorkerTeam {
   std::atomic<std::uint32_t> sleeping_workers_{0};
   alignas(kCacheLineSize) std::atomic<std::uint32_t> pending_{0};
   std::atomic<std::uint32_t> caller_sleeping_{0};
+  alignas(kCacheLineSize) std::atomic<std::size_t> claim_{0};  // run_claimed's next item
   alignas(kCacheLineSize) std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> jobs_{0};
   std::atomic<std::uint64_t> worker_sleeps_{0};

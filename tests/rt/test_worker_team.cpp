@@ -59,6 +59,53 @@ TEST(WorkerTeam, EveryIndexRunsExactlyOnceOnItsFixedMember) {
   EXPECT_EQ(e1, 1001u);
 }
 
+TEST(WorkerTeam, ClaimedItemsRunExactlyOnceEachOnAValidMember) {
+  for (int size : {1, 2, 3, 4}) {
+    WorkerTeam team(size);
+    for (std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{7}, std::size_t{1001}}) {
+      std::vector<std::atomic<int>> hits(n);
+      std::atomic<int> bad_member{0};
+      for (int round = 0; round < 50; ++round) {
+        team.run_claimed(n, [&](int m, std::size_t i) {
+          if (m < 0 || m >= team.size()) bad_member.fetch_add(1);
+          hits[i].fetch_add(1, std::memory_order_relaxed);
+        });
+      }
+      for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(hits[i].load(), 50) << size << " " << i;
+      EXPECT_EQ(bad_member.load(), 0);
+    }
+  }
+}
+
+// The reason run_claimed exists: a member that is held up (preempted) on one item must not hold
+// up the rest. The member that claims item 0 waits until every other item is done; a fixed
+// partition would leave its share undone and time out.
+TEST(WorkerTeam, AHeldUpMemberLeavesTheRestOfTheItemsToTheOthers) {
+  WorkerTeam team(2);
+  constexpr std::size_t kItems = 64;
+  for (int round = 0; round < 20; ++round) {
+    std::atomic<std::size_t> done{0};
+    std::atomic<bool> timed_out{false};
+    std::vector<int> member_of(kItems, -1);
+    team.run_claimed(kItems, [&](int m, std::size_t i) {
+      member_of[i] = m;
+      if (i == 0) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (done.load() < kItems - 1) {
+          if (std::chrono::steady_clock::now() > deadline) {
+            timed_out = true;
+            break;
+          }
+          std::this_thread::yield();
+        }
+      }
+      done.fetch_add(1);
+    });
+    ASSERT_FALSE(timed_out.load()) << "round " << round;
+    for (std::size_t i = 1; i < kItems; ++i) EXPECT_NE(member_of[i], member_of[0]) << i;
+  }
+}
+
 TEST(WorkerTeam, MemberZeroIsTheCallerAndWorkersCarryTheirSpecNames) {
   const ThreadSpec first{.name = "tracker_w1", .sched_fifo_priority = 0, .cpu = -1};
   WorkerTeam team(3, first);
