@@ -3,7 +3,7 @@
 // (L1 + SSIM + depth), backward, Adam; pruning of transparent and oversized Gaussians every N
 // iterations. Gradients go straight from the rasterizer into Adam per Gaussian (no gradient copy
 // of the map). Memory per Gaussian (parameters, Adam moments, rasterizer caches including the
-// per-thread gradient buffers and tile lists) is reported by bytes_per_gaussian(); the mapper's
+// per-pair gradients and tile lists) is reported by bytes_per_gaussian(); the mapper's
 // whole account, by owner, is Mapper::memory() (mapper_memory.hpp).
 #include <cstddef>
 #include <vector>

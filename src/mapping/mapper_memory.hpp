@@ -3,7 +3,7 @@
 // grows with the map, from vector capacities (what was asked of the allocator, not what malloc
 // adds per block), so a figure reads the same on every run of the same schedule. Per Gaussian:
 // the map's parameters, Adam's moments, the rasterizer's caches (projection, tile lists, the
-// per-thread gradient buffers, the prune mask), the inserter's voxel occupancy
+// per-pair gradients, the prune mask), the inserter's voxel occupancy
 // and the see-through counts. Beside those: the keyframes the mapper keeps for training (their
 // images and depth; their points are dropped once inserted), the last published snapshot (a
 // copy of the map, shared with its readers) and the per-pixel buffers of the optimiser's and
@@ -17,7 +17,7 @@ struct MapperMemory {
   std::size_t gaussians = 0;           ///< map size when measured
   std::size_t map_params_bytes = 0;    ///< GaussianMap parameter arrays and their anchors
   std::size_t adam_moments_bytes = 0;  ///< Adam first and second moments
-  /// The optimiser's rasterizer caches: projection, tile lists, per-thread gradient buffers
+  /// The optimiser's rasterizer caches: projection, tile lists, per-pair gradients
   /// (not the per-thread tile scratch), and the optimiser's prune mask.
   std::size_t optimizer_buffers_bytes = 0;
   /// GaussianInserter's voxel set: bucket array plus one node (next pointer + key) per voxel.

@@ -17,14 +17,9 @@ namespace vigs::mapping {
 
 namespace {
 constexpr int kGradPerGaussian = 10;  // mean2d 2, conic 3, opacity, colour 3, depth
-
-/// [begin, end) of a static split of n items into `parts`.
-inline void split(std::size_t n, int parts, int index, std::size_t& begin, std::size_t& end) {
-  const std::size_t p = static_cast<std::size_t>(parts);
-  const std::size_t i = static_cast<std::size_t>(index);
-  begin = n * i / p;
-  end = n * (i + 1) / p;
-}
+/// Gaussians per claimed item of the per-Gaussian loops (projection, for_ranges): about
+/// 50-100 us of work, so a claim's atomic is noise and a preempted member holds little back.
+constexpr std::size_t kClaimChunk = 4096;
 }  // namespace
 
 template <class T>
@@ -33,17 +28,25 @@ Rasterizer<T>::Rasterizer(RasterSettings settings, rt::WorkerTeam* pool)
   const auto n = static_cast<std::size_t>(threads());
   gather_.resize(n);
   tile_grad_.resize(n);
-  thread_grad_.resize(n);
   simd_scratch_.resize(n);
   run_scratch_.resize(n);
 }
 
 template <class T>
-void Rasterizer<T>::run(const std::function<void(int)>& fn, int) {
+void Rasterizer<T>::run(const std::function<void(int)>& fn) {
   if (pool_) {
     pool_->run(fn);
   } else {
     fn(0);
+  }
+}
+
+template <class T>
+void Rasterizer<T>::run_claimed(std::size_t n, const std::function<void(int, std::size_t)>& fn) {
+  if (pool_) {
+    pool_->run_claimed(n, fn);
+  } else {
+    for (std::size_t i = 0; i < n; ++i) fn(0, i);
   }
 }
 
@@ -80,26 +83,22 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
       proj_.opacity[i] = opacity;
     }
   };
-  const int nt = threads();
   culled_blocks_ = 0;
   if constexpr (std::is_same_v<T, float>) {
     if (blocks) {
       blocks->update(g);
       const std::size_t nb = blocks->blocks();
       block_projected_.resize(nb);
-      // interleaved blocks: the visible ones are usually a few neighbouring runs
-      run([&](int t) {
-        for (std::size_t b = static_cast<std::size_t>(t); b < nb;
-             b += static_cast<std::size_t>(nt)) {
-          const auto [lo, hi] = blocks->range(b);
-          const bool seen = blocks->may_be_visible(b, cam, settings_);
-          block_projected_[b] = seen ? 1 : 0;
-          if (seen) {
-            project_range(lo, hi);
-          } else {
-            std::fill(proj_.radius.begin() + static_cast<std::ptrdiff_t>(lo),
-                      proj_.radius.begin() + static_cast<std::ptrdiff_t>(hi), 0);
-          }
+      // blocks claimed one at a time: the visible ones are usually a few neighbouring runs
+      run_claimed(nb, [&](int, std::size_t b) {
+        const auto [lo, hi] = blocks->range(b);
+        const bool seen = blocks->may_be_visible(b, cam, settings_);
+        block_projected_[b] = seen ? 1 : 0;
+        if (seen) {
+          project_range(lo, hi);
+        } else {
+          std::fill(proj_.radius.begin() + static_cast<std::ptrdiff_t>(lo),
+                    proj_.radius.begin() + static_cast<std::ptrdiff_t>(hi), 0);
         }
       });
       ranges_.clear();
@@ -118,11 +117,7 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
       return;
     }
   }
-  run([&](int t) {
-    std::size_t b, e;
-    split(n, nt, t, b, e);
-    project_range(b, e);
-  });
+  for_ranges(n, project_range);
   ranges_.assign(1, {0, n});
 }
 
@@ -158,6 +153,9 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   for (const auto& [lo, hi] : ranges_)
     for (std::size_t i = lo; i < hi; ++i) visible += proj_.radius[i] != 0 ? 1 : 0;
   resize_by_eighths(reach_, 2 * visible);  // per visible Gaussian, not per Gaussian
+  resize_by_eighths(slot_tiles_, 4 * visible);
+  resize_by_eighths(slot_pairs_, visible + 1);
+  slot_pairs_[0] = 0;
   n_visible_ = 0;
   // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
   // before they are counted, so a map whose Gaussians cover too many tiles is a clear error, not
@@ -180,6 +178,11 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
                    ry);
       int x0, y0, x1, y1;
       rect_of(i, rx, ry, x0, y0, x1, y1);
+      int* rect = &slot_tiles_[4 * slot];
+      rect[0] = x0;
+      rect[1] = y0;
+      rect[2] = x1;
+      rect[3] = y1;
       if (x1 >= x0 && y1 >= y0) pairs += std::int64_t{x1 - x0 + 1} * (y1 - y0 + 1);
       if (pairs > kMaxTilePairs) {
         throw std::length_error("rasterizer: more than " + std::to_string(kMaxTilePairs) +
@@ -188,6 +191,7 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
                                 std::to_string(kTilePx) +
                                 " px); the map has too many or too large Gaussians for this view");
       }
+      slot_pairs_[slot + 1] = static_cast<int>(pairs);
       for (int ty = y0; ty <= y1; ++ty)
         for (int tx = x0; tx <= x1; ++tx)
           ++tile_offsets_[static_cast<std::size_t>(ty * tiles_x_ + tx) + 1];
@@ -199,24 +203,19 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   for (const auto& [lo, hi] : ranges_)
     for (std::size_t i = lo; i < hi; ++i) {
       if (proj_.radius[i] == 0) continue;
-      const auto slot = static_cast<std::size_t>(visible_slot_[i]);
-      int x0, y0, x1, y1;
-      rect_of(i, reach_[2 * slot], reach_[2 * slot + 1], x0, y0, x1, y1);
-      for (int ty = y0; ty <= y1; ++ty)
-        for (int tx = x0; tx <= x1; ++tx)
+      const int* rect = &slot_tiles_[4 * static_cast<std::size_t>(visible_slot_[i])];
+      for (int ty = rect[1]; ty <= rect[3]; ++ty)
+        for (int tx = rect[0]; tx <= rect[2]; ++tx)
           tile_ids_[static_cast<std::size_t>(tile_cursor_[ty * tiles_x_ + tx]++)] =
               static_cast<int>(i);
     }
-  const int nt = threads();
-  run([&](int t) {
-    for (int tile = t; tile < n_tiles; tile += nt) {
-      auto* b = tile_ids_.data() + tile_offsets_[tile];
-      auto* e = tile_ids_.data() + tile_offsets_[tile + 1];
-      std::sort(b, e, [&](int a, int c) {
-        const T da = proj_.depth[a], dc = proj_.depth[c];
-        return da < dc || (da == dc && a < c);
-      });
-    }
+  run_claimed(static_cast<std::size_t>(n_tiles), [&](int, std::size_t tile) {
+    auto* b = tile_ids_.data() + tile_offsets_[tile];
+    auto* e = tile_ids_.data() + tile_offsets_[tile + 1];
+    std::sort(b, e, [&](int a, int c) {
+      const T da = proj_.depth[a], dc = proj_.depth[c];
+      return da < dc || (da == dc && a < c);
+    });
   });
 }
 
@@ -263,26 +262,23 @@ void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
   bool simd = false;
   if constexpr (std::is_same_v<T, float>) simd = settings_.use_simd && avx2_kernel_available();
   used_simd_ = simd;
-  const int nt = threads();
-  const int n_tiles = tiles_x_ * tiles_y_;
-  run([&](int t) {
+  const auto n_tiles = static_cast<std::size_t>(tiles_x_ * tiles_y_);
+  // Each tile writes only its own pixels: which member blends it does not change the render.
+  run_claimed(n_tiles, [&](int t, std::size_t tile_index) {
+    const int tile = static_cast<int>(tile_index);
     auto& buf = gather_[static_cast<std::size_t>(t)];
-    for (int tile = t; tile < n_tiles; tile += nt) {
-      const int tx = tile % tiles_x_, ty = tile / tiles_x_;
-      const TileRect rect{tx * kTilePx, ty * kTilePx, std::min(cam.width_px, (tx + 1) * kTilePx),
-                          std::min(cam.height_px, (ty + 1) * kTilePx)};
-      gather_tile(tile, buf, g);
-      const int count = static_cast<int>(buf.size());
-      if constexpr (std::is_same_v<T, float>) {
-        if (simd) {
-          auto& runs = run_scratch_[static_cast<std::size_t>(t)];
-          runs.resize(tile_run_scratch(rect, count));
-          forward_tile_avx2(rect, buf.data(), count, settings_, po, runs.data());
-          continue;
-        }
+    const TileRect rect = tile_rect(tile, cam);
+    gather_tile(tile, buf, g);
+    const int count = static_cast<int>(buf.size());
+    if constexpr (std::is_same_v<T, float>) {
+      if (simd) {
+        auto& runs = run_scratch_[static_cast<std::size_t>(t)];
+        runs.resize(tile_run_scratch(rect, count));
+        forward_tile_avx2(rect, buf.data(), count, settings_, po, runs.data());
+        return;
       }
-      forward_tile_scalar(rect, buf.data(), count, settings_, po);
     }
+    forward_tile_scalar(rect, buf.data(), count, settings_, po);
   });
 }
 
@@ -290,55 +286,50 @@ template <class T>
 void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const RenderCamera& cam,
                                          const RenderResult<T>& out, const T* v_color,
                                          const T* v_depth, const T* v_alpha) {
-  const int nt = threads();
   const int n_tiles = tiles_x_ * tiles_y_;
   // Accumulated opacity is 1 - T_final: its gradient enters as dL/dalpha.
   bool simd = false;
   if constexpr (std::is_same_v<T, float>) simd = settings_.use_simd && avx2_kernel_available();
-  run([&](int t) {
-    auto& acc = thread_grad_[static_cast<std::size_t>(t)];
-    acc.assign(kGradPerGaussian * static_cast<std::size_t>(n_visible_), T(0));
+  // Per-pixel reverse pass, tiles claimed by whichever member is free. A tile's gradients go
+  // to its own pairs' entries of pair_grad_, which is laid out per Gaussian (slot_pairs_) and,
+  // within a Gaussian, by its tiles in row-major order (slot_tiles_): gaussian_gradient() then
+  // sums one contiguous run in tile order. No entry is written twice, and the sum's order is
+  // the Gaussian's own, so the gradient does not depend on which member blended which tile,
+  // nor on the team's size.
+  resize_by_eighths(pair_grad_, tile_ids_.size());
+  run_claimed(static_cast<std::size_t>(n_tiles), [&](int t, std::size_t tile_index) {
+    const int tile = static_cast<int>(tile_index);
+    const int b = tile_offsets_[tile], e = tile_offsets_[tile + 1];
+    if (b == e) return;
+    const TileRect rect = tile_rect(tile, cam);
     auto& buf = gather_[static_cast<std::size_t>(t)];
+    gather_tile(tile, buf, g);
     auto& tg = tile_grad_[static_cast<std::size_t>(t)];
-    for (int tile = t; tile < n_tiles; tile += nt) {
-      const int tx = tile % tiles_x_, ty = tile / tiles_x_;
-      const TileRect rect{tx * kTilePx, ty * kTilePx, std::min(cam.width_px, (tx + 1) * kTilePx),
-                          std::min(cam.height_px, (ty + 1) * kTilePx)};
-      const int b = tile_offsets_[tile], e = tile_offsets_[tile + 1];
-      if (b == e) continue;
-      gather_tile(tile, buf, g);
-      tg.assign(static_cast<std::size_t>(e - b), TileGrad<T>{});
-      bool done = false;
-      if constexpr (std::is_same_v<T, float>) {
-        if (simd) {
-          auto& scratch = simd_scratch_[static_cast<std::size_t>(t)];
-          scratch.resize(static_cast<std::size_t>(e - b) * 80);
-          auto& runs = run_scratch_[static_cast<std::size_t>(t)];
-          runs.resize(tile_run_scratch(rect, e - b));
-          backward_tile_avx2(rect, buf.data(), e - b, settings_, out.width, out.final_T.data(),
-                             out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data(),
-                             scratch.data(), runs.data());
-          done = true;
-        }
+    tg.assign(static_cast<std::size_t>(e - b), TileGrad<T>{});
+    bool done = false;
+    if constexpr (std::is_same_v<T, float>) {
+      if (simd) {
+        auto& scratch = simd_scratch_[static_cast<std::size_t>(t)];
+        scratch.resize(static_cast<std::size_t>(e - b) * 80);
+        auto& runs = run_scratch_[static_cast<std::size_t>(t)];
+        runs.resize(tile_run_scratch(rect, e - b));
+        backward_tile_avx2(rect, buf.data(), e - b, settings_, out.width, out.final_T.data(),
+                           out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data(),
+                           scratch.data(), runs.data());
+        done = true;
       }
-      if (!done)
-        backward_tile_scalar(rect, buf.data(), settings_, out.width, out.final_T.data(),
-                             out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data());
-      for (int k = b; k < e; ++k) {
-        const TileGrad<T>& s = tg[static_cast<std::size_t>(k - b)];
-        T* a = &acc[kGradPerGaussian * static_cast<std::size_t>(
-                                           visible_slot_[static_cast<std::size_t>(tile_ids_[k])])];
-        a[0] += s.x;
-        a[1] += s.y;
-        a[2] += s.ca;
-        a[3] += s.cb;
-        a[4] += s.cc;
-        a[5] += s.opacity;
-        a[6] += s.r;
-        a[7] += s.g;
-        a[8] += s.b;
-        a[9] += s.z;
-      }
+    }
+    if (!done)
+      backward_tile_scalar(rect, buf.data(), settings_, out.width, out.final_T.data(),
+                           out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data());
+    const int tx = tile % tiles_x_, ty = tile / tiles_x_;
+    for (int k = b; k < e; ++k) {
+      const auto slot =
+          static_cast<std::size_t>(visible_slot_[static_cast<std::size_t>(tile_ids_[k])]);
+      const int* r = &slot_tiles_[4 * slot];
+      const int local = (ty - r[1]) * (r[2] - r[0] + 1) + (tx - r[0]);
+      pair_grad_[static_cast<std::size_t>(slot_pairs_[slot] + local)] =
+          tg[static_cast<std::size_t>(k - b)];
     }
   });
 }
@@ -350,9 +341,18 @@ void Rasterizer<T>::gaussian_gradient(const GaussianParams<T>& g, const RenderCa
   if (proj_.radius[i] == 0) return;
   T v[kGradPerGaussian] = {};
   const auto slot = static_cast<std::size_t>(visible_slot_[i]);
-  for (const auto& buf : thread_grad_) {
-    const T* a = &buf[kGradPerGaussian * slot];
-    for (int k = 0; k < kGradPerGaussian; ++k) v[k] += a[k];
+  for (int k = slot_pairs_[slot]; k < slot_pairs_[slot + 1]; ++k) {
+    const TileGrad<T>& s = pair_grad_[static_cast<std::size_t>(k)];
+    v[0] += s.x;
+    v[1] += s.y;
+    v[2] += s.ca;
+    v[3] += s.cb;
+    v[4] += s.cc;
+    v[5] += s.opacity;
+    v[6] += s.r;
+    v[7] += s.g;
+    v[8] += s.b;
+    v[9] += s.z;
   }
   project_gaussian_vjp(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i],
                        T(settings_.eps2d_px2), &v[0], &v[2], v[9], &out[0], &out[3], &out[6]);
@@ -364,12 +364,15 @@ void Rasterizer<T>::gaussian_gradient(const GaussianParams<T>& g, const RenderCa
 template <class T>
 void Rasterizer<T>::for_ranges(std::size_t n,
                                const std::function<void(std::size_t, std::size_t)>& fn) {
-  const int nt = threads();
-  run([&](int t) {
-    std::size_t b, e;
-    split(n, nt, t, b, e);
-    fn(b, e);
-  });
+  run_claimed((n + kClaimChunk - 1) / kClaimChunk,
+              [&](int, std::size_t c) { fn(c * kClaimChunk, std::min(n, (c + 1) * kClaimChunk)); });
+}
+
+template <class T>
+TileRect Rasterizer<T>::tile_rect(int tile, const RenderCamera& cam) const {
+  const int tx = tile % tiles_x_, ty = tile / tiles_x_;
+  return TileRect{tx * kTilePx, ty * kTilePx, std::min(cam.width_px, (tx + 1) * kTilePx),
+                  std::min(cam.height_px, (ty + 1) * kTilePx)};
 }
 
 template <class T>
@@ -396,9 +399,9 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
 
 template <class T>
 std::size_t Rasterizer<T>::cache_bytes() const {
-  std::size_t bytes = capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.opacity,
-                                     proj_.radius, tile_ids_, visible_slot_, visible_ids_, reach_);
-  for (const auto& v : thread_grad_) bytes += capacity_bytes(v);
+  std::size_t bytes =
+      capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.opacity, proj_.radius, tile_ids_,
+                     visible_slot_, visible_ids_, reach_, slot_tiles_, slot_pairs_, pair_grad_);
   return bytes;
 }
 

@@ -1,9 +1,12 @@
 #pragma once
 // Differentiable tiled splatting on the CPU: project every Gaussian, bin them into 16x16 tiles
 // in depth order, blend front to back (colour, depth = sum z alpha T, accumulated opacity), and
-// in backward traverse each pixel's contributors in reverse. Work is split over tiles across a
-// rt::WorkerTeam with a static schedule; backward gradients go to per-thread buffers that are
-// summed in a fixed order at the end (no atomics), so results are bit-identical run to run.
+// in backward traverse each pixel's contributors in reverse. Tiles (and chunks of Gaussians) are
+// claimed one at a time by whichever member of a rt::WorkerTeam is free, so a member that is
+// preempted does not hold the others up. Every claimed item writes only its own outputs; backward
+// writes one gradient per Gaussian-tile pair, grouped by Gaussian, and sums each Gaussian's in
+// the order of its tiles (no atomics on floats), so results are bit-identical run to run and do
+// not depend on the team's size.
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -76,7 +79,8 @@ class Rasterizer {
   void gaussian_gradient(const GaussianParams<T>& g, const RenderCamera& cam, std::size_t i,
                          T out[kParamGrads]) const;
 
-  /// Runs fn(begin, end) over a static split of [0, n) on the rasterizer's threads.
+  /// Runs fn(begin, end) over consecutive chunks of [0, n), each chunk claimed by whichever of
+  /// the rasterizer's threads is free; fn must write only what its range owns.
   void for_ranges(std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn);
 
   [[nodiscard]] const Projection<T>& projection() const { return proj_; }
@@ -85,13 +89,15 @@ class Rasterizer {
   [[nodiscard]] std::size_t tile_pairs() const { return tile_ids_.size(); }
   /// Blocks the last forward pass culled whole (0 without blocks).
   [[nodiscard]] std::size_t culled_blocks() const { return culled_blocks_; }
-  /// Most Gaussian-tile pairs one forward pass takes (1 GiB of tile ids); more throws
+  /// Most Gaussian-tile pairs one forward pass takes (1 GiB of tile ids, 10 GiB more of
+  /// backward's pair gradients: the cap guards the int offsets, not memory); more throws
   /// std::length_error naming the counts (bin_tiles sums in 64 bits).
   static constexpr std::int64_t kMaxTilePairs = std::int64_t{1} << 28;
   /// Bytes held by this rasterizer's caches, from the current capacities: projection and
-  /// visible slots (per Gaussian), tile lists (per Gaussian-tile pair), per-thread gradient
-  /// buffers and kernel reach (per visible Gaussian). Not the per-tile offsets nor the per-thread
-  /// tile scratch (sized by the fullest tile, not by the map).
+  /// visible slots (per Gaussian), tile lists and backward's gradients (4 + 40 B per
+  /// Gaussian-tile pair in float), kernel reach, tile rectangle and pair offsets (per visible
+  /// Gaussian). Not the per-tile offsets nor the per-thread tile scratch (sized by the fullest
+  /// tile, not by the map).
   [[nodiscard]] std::size_t cache_bytes() const;
   /// True when the last forward used the AVX2 kernels (backward uses them under the same
   /// condition: settings().use_simd, float, and a CPU with AVX2 and FMA).
@@ -101,7 +107,10 @@ class Rasterizer {
   void project_all(const GaussianParams<T>& g, const RenderCamera& cam, MapBlocks* blocks);
   void bin_tiles(const RenderCamera& cam);
   void gather_tile(int tile, std::vector<TileGaussian<T>>& buf, const GaussianParams<T>& g) const;
-  void run(const std::function<void(int)>& fn, int threads_hint = 0);
+  void run(const std::function<void(int)>& fn);
+  /// fn(member, item) for every item in [0, n), claimed by whichever member is free.
+  void run_claimed(std::size_t n, const std::function<void(int, std::size_t)>& fn);
+  [[nodiscard]] TileRect tile_rect(int tile, const RenderCamera& cam) const;
   [[nodiscard]] int threads() const { return pool_ ? pool_->size() : 1; }
 
   RasterSettings settings_;
@@ -112,12 +121,15 @@ class Rasterizer {
   std::vector<int> tile_ids_;      ///< Gaussian ids per tile, near to far
   std::vector<int> tile_cursor_;
   std::vector<std::vector<TileGaussian<T>>> gather_;  ///< per thread
-  std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread
+  std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread, one tile's gradients
   std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
   int n_visible_ = 0;
   std::vector<int> visible_ids_;  ///< slot -> Gaussian id
   std::vector<T> reach_;          ///< 2 per visible slot: kernel_reach across and down, pixels
-  std::vector<std::vector<T>> thread_grad_;       ///< per thread, 10 per visible Gaussian
+  std::vector<int> slot_tiles_;   ///< 4 per visible slot: its tiles x0, y0, x1, y1 (inclusive)
+  std::vector<int> slot_pairs_;   ///< visible + 1: offsets of each slot's pairs in pair_grad_
+  /// backward: per Gaussian-tile pair, grouped by visible slot, row-major tile order within one
+  std::vector<TileGrad<T>> pair_grad_;
   std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
   std::vector<std::vector<int>> run_scratch_;     ///< per thread, AVX2 per-run Gaussian lists
   bool used_simd_ = false;

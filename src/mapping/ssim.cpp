@@ -1,6 +1,8 @@
 #include "mapping/ssim.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <type_traits>
 
@@ -49,13 +51,16 @@ Ssim<T>::Ssim(SsimOptions options, rt::WorkerTeam* pool) : opt_(options), pool_(
 }
 
 template <class T>
-void Ssim<T>::for_rows(int rows, const std::function<void(int, int, int)>& fn) {
-  const int nt = pool_ ? pool_->size() : 1;
-  auto body = [&](int t) { fn(t, rows * t / nt, rows * (t + 1) / nt); };
+void Ssim<T>::for_rows(int rows, const std::function<void(int, int, int, int)>& fn) {
+  const auto body = [&](int t, std::size_t b) {
+    const int r0 = static_cast<int>(b) * kRowsPerBlock;
+    fn(t, static_cast<int>(b), r0, std::min(rows, r0 + kRowsPerBlock));
+  };
+  const auto blocks = static_cast<std::size_t>(row_blocks(rows));
   if (pool_) {
-    pool_->run(body);
+    pool_->run_claimed(blocks, body);
   } else {
-    body(0);
+    for (std::size_t b = 0; b < blocks; ++b) body(0, b);
   }
 }
 
@@ -89,14 +94,15 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
   maps_.resize(5 * nv);
   if (grad_x) g_.resize(3 * nv);
   rows_.resize(static_cast<std::size_t>(nt) * 5 * w);
-  partial_.assign(static_cast<std::size_t>(nt) * static_cast<std::size_t>(channels), 0.0);
+  const auto n_blocks = static_cast<std::size_t>(row_blocks(hv));
+  partial_.assign(n_blocks * static_cast<std::size_t>(channels), 0.0);
   const T* win = win_.data();
   const bool simd = opt_.use_simd;
   const std::size_t cs = static_cast<std::size_t>(channels);
   for (int c = 0; c < channels; ++c) {
     // horizontal pass of x, y, xx, yy, xy: deinterleave a row into 5 planes, then filter each
     // plane with the tap loop outside so the inner loop is contiguous: tmp (5 x h x wv)
-    for_rows(height, [&](int t, int r0, int r1) {
+    for_rows(height, [&](int t, int, int r0, int r1) {
       T* rowbuf = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
       for (int r = r0; r < r1; ++r) {
         const T* xr = x + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
@@ -119,7 +125,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
       }
     });
     // vertical pass, then the SSIM map and its partial derivatives
-    for_rows(hv, [&](int t, int r0, int r1) {
+    for_rows(hv, [&](int, int block, int r0, int r1) {
       double sum = 0;
       for (int r = r0; r < r1; ++r) {
         for (int m = 0; m < 5; ++m) {
@@ -151,12 +157,12 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
           }
         }
       }
-      partial_[static_cast<std::size_t>(t) * cs + static_cast<std::size_t>(c)] = sum;
+      partial_[static_cast<std::size_t>(block) * cs + static_cast<std::size_t>(c)] = sum;
     });
     if (!grad_x) continue;
     // transposed filters as gathers: vertical into tmp (3 x h x wv), then horizontal per row;
     // dL/dx_q = (W^T g_mu)_q + 2 x_q (W^T g_xx)_q + y_q (W^T g_xy)_q
-    for_rows(height, [&](int t, int r0, int r1) {
+    for_rows(height, [&](int t, int, int r0, int r1) {
       for (int r = r0; r < r1; ++r) {
         for (int m = 0; m < 3; ++m) {
           T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
@@ -189,8 +195,8 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
   }
   double total = 0;
   for (int c = 0; c < channels; ++c)
-    for (int t = 0; t < nt; ++t)
-      total += partial_[static_cast<std::size_t>(t) * cs + static_cast<std::size_t>(c)];
+    for (std::size_t b = 0; b < n_blocks; ++b)
+      total += partial_[b * cs + static_cast<std::size_t>(c)];
   return T(total / (static_cast<double>(n_valid) * channels));
 }
 

@@ -33,20 +33,26 @@ std::vector<double> ssim_window_1d(SsimWindow w);
 template <class T>
 class Ssim {
  public:
-  /// `pool` (may be null) splits rows across threads; it must outlive this object.
+  /// `pool` (may be null) shares blocks of rows among its threads, each block claimed by whichever
+  /// is free; it must outlive this object. The result does not depend on the pool's size.
   explicit Ssim(SsimOptions options = {}, rt::WorkerTeam* pool = nullptr);
 
   /// Returns mean SSIM; when grad_x is not null it receives d(mean SSIM)/dx (w*h*channels).
   T evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask, T* grad_x);
 
  private:
-  void for_rows(int rows, const std::function<void(int, int, int)>& fn);
+  static constexpr int kRowsPerBlock = 16;
+  [[nodiscard]] static int row_blocks(int rows) {
+    return (rows + kRowsPerBlock - 1) / kRowsPerBlock;
+  }
+  /// fn(member, block, first row, end row) for every block of kRowsPerBlock rows of [0, rows).
+  void for_rows(int rows, const std::function<void(int, int, int, int)>& fn);
 
   SsimOptions opt_;
   rt::WorkerTeam* pool_;
   std::vector<T> win_;
   std::vector<T> tmp_, maps_, g_, rows_;
-  std::vector<double> partial_;
+  std::vector<double> partial_;  ///< per row block and channel, summed in block order
 };
 
 extern template class Ssim<float>;

@@ -10,6 +10,7 @@
 #include "mapping/image_metrics.hpp"
 #include "mapping/raster_simd.hpp"
 #include "mapping/ssim.hpp"
+#include "rt/worker_team.hpp"
 
 namespace vigs::mapping {
 namespace {
@@ -77,6 +78,34 @@ TEST(MappingSsim, Avx2FiltersMatchThePlainLoopInFloat) {
   }
   EXPECT_GT(scale, 0.0f);
   EXPECT_LT(worst, 1e-4f * scale);
+}
+
+// Rows go in blocks to whichever thread is free and the mean is summed per block in block order:
+// the value and the gradient do not depend on the team's size, with or without a mask.
+TEST(MappingSsim, AnyTeamSizeGivesTheSameBits) {
+  const auto a = io::read_image_u8(kImages + "kodim10.png");
+  const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
+  std::vector<float> x(a.data.size()), y(b.data.size());
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.data[i] / 255.0f;
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = b.data[i] / 255.0f;
+  std::vector<float> mask(static_cast<std::size_t>(a.width) * a.height);
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = (i / 37) % 4 == 0 ? 0.0f : 1.0f;
+  const float* const masks[] = {nullptr, mask.data()};
+  for (const float* m : masks) {
+    Ssim<float> one;
+    std::vector<float> g1(x.size());
+    const float v1 = one.evaluate(x.data(), y.data(), a.width, a.height, 3, m, g1.data());
+    for (const int members : {2, 3}) {
+      rt::WorkerTeam pool(members);
+      Ssim<float> many(SsimOptions{}, &pool);
+      std::vector<float> gm(x.size());
+      for (int round = 0; round < 2; ++round) {
+        const float vm = many.evaluate(x.data(), y.data(), a.width, a.height, 3, m, gm.data());
+        ASSERT_EQ(v1, vm) << members;
+        ASSERT_EQ(g1, gm) << members;
+      }
+    }
+  }
 }
 
 }  // namespace
