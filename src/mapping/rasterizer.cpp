@@ -20,6 +20,9 @@ constexpr int kGradPerGaussian = 10;  // mean2d 2, conic 3, opacity, colour 3, d
 /// Gaussians per claimed item of the per-Gaussian loops (projection, for_ranges): about
 /// 50-100 us of work, so a claim's atomic is noise and a preempted member holds little back.
 constexpr std::size_t kClaimChunk = 4096;
+/// Visible Gaussians per claimed chunk of the binning's count and fill passes; each chunk keeps a
+/// row of per-tile counts (1350 ints at 720x480), so chunks are larger there.
+constexpr std::size_t kSlotChunk = 8192;
 }  // namespace
 
 template <class T>
@@ -64,8 +67,10 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
   // skip it: its sigma cut-off is negative), so culling it here renders exactly the same; this
   // is how a removed-but-not-yet-compacted Gaussian (kRemovedLogit) leaves the render at once.
   const T min_alpha = T(settings_.min_alpha);
+  // Returns how many of [b, e) are visible.
   auto project_range = [&](std::size_t b, std::size_t e) {
     ProjectedGaussian<T> pg;
+    int visible = 0;
     for (std::size_t i = b; i < e; ++i) {
       const T opacity = sigmoid(g.opacity_logit[i]);
       if (opacity < min_alpha) {
@@ -76,49 +81,57 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
                        pg);
       proj_.radius[i] = pg.radius;
       if (pg.radius == 0) continue;
+      ++visible;
       proj_.mean2d[2 * i] = pg.mean2d[0];
       proj_.mean2d[2 * i + 1] = pg.mean2d[1];
       for (int k = 0; k < 3; ++k) proj_.conic[3 * i + k] = pg.conic[k];
       proj_.depth[i] = pg.depth;
       proj_.opacity[i] = opacity;
     }
+    return visible;
   };
   culled_blocks_ = 0;
   if constexpr (std::is_same_v<T, float>) {
     if (blocks) {
       blocks->update(g);
       const std::size_t nb = blocks->blocks();
-      block_projected_.resize(nb);
+      units_.resize(nb);
       // blocks claimed one at a time: the visible ones are usually a few neighbouring runs
       run_claimed(nb, [&](int, std::size_t b) {
         const auto [lo, hi] = blocks->range(b);
         const bool seen = blocks->may_be_visible(b, cam, settings_);
-        block_projected_[b] = seen ? 1 : 0;
-        if (seen) {
-          project_range(lo, hi);
-        } else {
+        units_[b] = {lo, hi, seen ? project_range(lo, hi) : -1, 0};
+        if (!seen)
           std::fill(proj_.radius.begin() + static_cast<std::ptrdiff_t>(lo),
                     proj_.radius.begin() + static_cast<std::ptrdiff_t>(hi), 0);
-        }
       });
-      ranges_.clear();
-      for (std::size_t b = 0; b < nb; ++b) {
-        if (!block_projected_[b]) {
-          ++culled_blocks_;
-          continue;
-        }
-        const auto [lo, hi] = blocks->range(b);
-        if (!ranges_.empty() && ranges_.back().second == lo) {
-          ranges_.back().second = hi;
-        } else {
-          ranges_.emplace_back(lo, hi);
-        }
-      }
+      for (const ProjectedUnit& u : units_) culled_blocks_ += u.visible < 0 ? 1 : 0;
+      number_units();
       return;
     }
   }
-  for_ranges(n, project_range);
-  ranges_.assign(1, {0, n});
+  units_.resize((n + kClaimChunk - 1) / kClaimChunk);
+  run_claimed(units_.size(), [&](int, std::size_t c) {
+    const std::size_t lo = c * kClaimChunk, hi = std::min(n, lo + kClaimChunk);
+    units_[c] = {lo, hi, project_range(lo, hi), 0};
+  });
+  number_units();
+}
+
+template <class T>
+void Rasterizer<T>::number_units() {
+  // Keep the units with a visible Gaussian, in map order, and give each its first visible slot:
+  // slots then ascend with the Gaussian ids, whichever thread projected which unit.
+  std::size_t kept = 0;
+  int slot = 0;
+  for (ProjectedUnit u : units_) {
+    if (u.visible <= 0) continue;
+    u.first_slot = slot;
+    slot += u.visible;
+    units_[kept++] = u;
+  }
+  units_.resize(kept);
+  n_visible_ = slot;
 }
 
 template <class T>
@@ -127,7 +140,6 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   tiles_y_ = (cam.height_px + kTilePx - 1) / kTilePx;
   const int n_tiles = tiles_x_ * tiles_y_;
   const std::size_t n = proj_.radius.size();
-  tile_offsets_.assign(static_cast<std::size_t>(n_tiles) + 1, 0);
   // A Gaussian's tiles: those its kernels can blend at all. A pixel contributes only where
   // sigma = d^T conic d / 2 <= sigma_cut (alpha >= min_alpha, tile_kernels.hpp), and that
   // ellipse reaches at most sqrt(2 sigma_cut Sigma_xx) across and sqrt(2 sigma_cut Sigma_yy)
@@ -147,68 +159,92 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
     x1 = std::min(tiles_x_ - 1, static_cast<int>(std::floor((u + rx) / T(kTilePx))));
     y1 = std::min(tiles_y_ - 1, static_cast<int>(std::floor((v + ry) / T(kTilePx))));
   };
+  const auto n_vis = static_cast<std::size_t>(n_visible_);
   resize_by_eighths(visible_slot_, n);
-  resize_by_eighths(visible_ids_, n);
-  std::size_t visible = 0;
-  for (const auto& [lo, hi] : ranges_)
-    for (std::size_t i = lo; i < hi; ++i) visible += proj_.radius[i] != 0 ? 1 : 0;
-  resize_by_eighths(reach_, 2 * visible);  // per visible Gaussian, not per Gaussian
-  resize_by_eighths(slot_tiles_, 4 * visible);
-  resize_by_eighths(slot_pairs_, visible + 1);
-  slot_pairs_[0] = 0;
-  n_visible_ = 0;
-  // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
-  // before they are counted, so a map whose Gaussians cover too many tiles is a clear error, not
-  // an overflowed offset.
-  // Only the ranges the projection looked at: a culled block's Gaussians have radius 0, and
-  // their visible_slot_ entries are never read (every reader checks the radius first).
-  std::int64_t pairs = 0;
-  for (const auto& [lo, hi] : ranges_)
-    for (std::size_t i = lo; i < hi; ++i) {
+  resize_by_eighths(visible_ids_, n_vis);
+  resize_by_eighths(reach_, 2 * n_vis);  // per visible Gaussian, not per Gaussian
+  resize_by_eighths(slot_tiles_, 4 * n_vis);
+  resize_by_eighths(slot_pairs_, n_vis + 1);
+  // Every pass below is claimed by whichever thread is free (units, then chunks of slots), and
+  // none depends on which thread ran what: tile lists come out as a serial pass would make them.
+  // 1. Per unit of projected Gaussians: slots, kernel reach and tile rectangle. Only the units
+  // the projection kept: a culled block's Gaussians have radius 0, and their visible_slot_
+  // entries are never read (every reader checks the radius first).
+  run_claimed(units_.size(), [&](int, std::size_t u) {
+    const ProjectedUnit& unit = units_[u];
+    int slot = unit.first_slot;
+    for (std::size_t i = unit.lo; i < unit.hi; ++i) {
       if (proj_.radius[i] == 0) {
         visible_slot_[i] = -1;
         continue;
       }
-      const auto slot = static_cast<std::size_t>(n_visible_);
-      visible_ids_[slot] = static_cast<int>(i);
-      visible_slot_[i] = n_visible_++;
-      T& rx = reach_[2 * slot];
-      T& ry = reach_[2 * slot + 1];
+      const auto s = static_cast<std::size_t>(slot);
+      visible_ids_[s] = static_cast<int>(i);
+      visible_slot_[i] = slot++;
+      T& rx = reach_[2 * s];
+      T& ry = reach_[2 * s + 1];
       kernel_reach(&proj_.conic[3 * i], sigma_cutoff(proj_.opacity[i], settings_.min_alpha), rx,
                    ry);
-      int x0, y0, x1, y1;
-      rect_of(i, rx, ry, x0, y0, x1, y1);
-      int* rect = &slot_tiles_[4 * slot];
-      rect[0] = x0;
-      rect[1] = y0;
-      rect[2] = x1;
-      rect[3] = y1;
-      if (x1 >= x0 && y1 >= y0) pairs += std::int64_t{x1 - x0 + 1} * (y1 - y0 + 1);
-      if (pairs > kMaxTilePairs) {
-        throw std::length_error("rasterizer: more than " + std::to_string(kMaxTilePairs) +
-                                " Gaussian-tile pairs (at Gaussian " + std::to_string(i) + " of " +
-                                std::to_string(n) + ", " + std::to_string(n_tiles) + " tiles of " +
-                                std::to_string(kTilePx) +
-                                " px); the map has too many or too large Gaussians for this view");
-      }
-      slot_pairs_[slot + 1] = static_cast<int>(pairs);
-      for (int ty = y0; ty <= y1; ++ty)
-        for (int tx = x0; tx <= x1; ++tx)
-          ++tile_offsets_[static_cast<std::size_t>(ty * tiles_x_ + tx) + 1];
+      int* rect = &slot_tiles_[4 * s];
+      rect_of(i, rx, ry, rect[0], rect[1], rect[2], rect[3]);
+      slot_pairs_[s + 1] = rect[2] >= rect[0] && rect[3] >= rect[1]
+                               ? (rect[2] - rect[0] + 1) * (rect[3] - rect[1] + 1)
+                               : 0;
     }
-  visible_ids_.resize(static_cast<std::size_t>(n_visible_));
-  for (int t = 0; t < n_tiles; ++t) tile_offsets_[t + 1] += tile_offsets_[t];
-  tile_ids_.resize(static_cast<std::size_t>(tile_offsets_[n_tiles]));
-  tile_cursor_.assign(tile_offsets_.begin(), tile_offsets_.end() - 1);
-  for (const auto& [lo, hi] : ranges_)
-    for (std::size_t i = lo; i < hi; ++i) {
-      if (proj_.radius[i] == 0) continue;
-      const int* rect = &slot_tiles_[4 * static_cast<std::size_t>(visible_slot_[i])];
+  });
+  // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
+  // before they are used, so a map whose Gaussians cover too many tiles is a clear error, not an
+  // overflowed offset.
+  slot_pairs_[0] = 0;
+  std::int64_t pairs = 0;
+  for (std::size_t s = 0; s < n_vis; ++s) {
+    pairs += slot_pairs_[s + 1];
+    if (pairs > kMaxTilePairs) {
+      throw std::length_error("rasterizer: more than " + std::to_string(kMaxTilePairs) +
+                              " Gaussian-tile pairs (at Gaussian " +
+                              std::to_string(visible_ids_[s]) + " of " + std::to_string(n) + ", " +
+                              std::to_string(n_tiles) + " tiles of " + std::to_string(kTilePx) +
+                              " px); the map has too many or too large Gaussians for this view");
+    }
+    slot_pairs_[s + 1] = static_cast<int>(pairs);
+  }
+  // 2. Pairs per tile, counted per chunk of slots (each chunk its own row of counts).
+  const std::size_t chunks = (n_vis + kSlotChunk - 1) / kSlotChunk;
+  const auto tiles = static_cast<std::size_t>(n_tiles);
+  chunk_tile_.resize(chunks * tiles);
+  run_claimed(chunks, [&](int, std::size_t c) {
+    int* count = chunk_tile_.data() + c * tiles;
+    std::fill(count, count + tiles, 0);
+    for (std::size_t s = c * kSlotChunk, e = std::min(n_vis, s + kSlotChunk); s < e; ++s) {
+      const int* rect = &slot_tiles_[4 * s];
+      for (int ty = rect[1]; ty <= rect[3]; ++ty)
+        for (int tx = rect[0]; tx <= rect[2]; ++tx) ++count[ty * tiles_x_ + tx];
+    }
+  });
+  // Tile offsets, and each chunk's first position in each tile (chunks in slot order).
+  tile_offsets_.resize(tiles + 1);
+  int at = 0;
+  for (std::size_t t = 0; t < tiles; ++t) {
+    tile_offsets_[t] = at;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      int& count = chunk_tile_[c * tiles + t];
+      const int here = count;
+      count = at;  // from now on: the chunk's cursor in tile t
+      at += here;
+    }
+  }
+  tile_offsets_[tiles] = at;
+  // 3. Fill: each chunk writes its Gaussians at its own cursors, in slot (= id) order.
+  tile_ids_.resize(static_cast<std::size_t>(at));
+  run_claimed(chunks, [&](int, std::size_t c) {
+    int* cursor = chunk_tile_.data() + c * tiles;
+    for (std::size_t s = c * kSlotChunk, e = std::min(n_vis, s + kSlotChunk); s < e; ++s) {
+      const int* rect = &slot_tiles_[4 * s];
       for (int ty = rect[1]; ty <= rect[3]; ++ty)
         for (int tx = rect[0]; tx <= rect[2]; ++tx)
-          tile_ids_[static_cast<std::size_t>(tile_cursor_[ty * tiles_x_ + tx]++)] =
-              static_cast<int>(i);
+          tile_ids_[static_cast<std::size_t>(cursor[ty * tiles_x_ + tx]++)] = visible_ids_[s];
     }
+  });
   run_claimed(static_cast<std::size_t>(n_tiles), [&](int, std::size_t tile) {
     auto* b = tile_ids_.data() + tile_offsets_[tile];
     auto* e = tile_ids_.data() + tile_offsets_[tile + 1];
@@ -399,9 +435,9 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
 
 template <class T>
 std::size_t Rasterizer<T>::cache_bytes() const {
-  std::size_t bytes =
-      capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.opacity, proj_.radius, tile_ids_,
-                     visible_slot_, visible_ids_, reach_, slot_tiles_, slot_pairs_, pair_grad_);
+  std::size_t bytes = capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.opacity,
+                                     proj_.radius, tile_ids_, visible_slot_, visible_ids_, reach_,
+                                     slot_tiles_, slot_pairs_, pair_grad_, units_, chunk_tile_);
   return bytes;
 }
 

@@ -105,6 +105,7 @@ class Rasterizer {
 
  private:
   void project_all(const GaussianParams<T>& g, const RenderCamera& cam, MapBlocks* blocks);
+  void number_units();
   void bin_tiles(const RenderCamera& cam);
   void gather_tile(int tile, std::vector<TileGaussian<T>>& buf, const GaussianParams<T>& g) const;
   void run(const std::function<void(int)>& fn);
@@ -119,7 +120,8 @@ class Rasterizer {
   int tiles_x_ = 0, tiles_y_ = 0;
   std::vector<int> tile_offsets_;  ///< tiles + 1
   std::vector<int> tile_ids_;      ///< Gaussian ids per tile, near to far
-  std::vector<int> tile_cursor_;
+  std::vector<int>
+      chunk_tile_;  ///< binning: per chunk of slots, its pair count then cursor per tile
   std::vector<std::vector<TileGaussian<T>>> gather_;  ///< per thread
   std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread, one tile's gradients
   std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
@@ -134,10 +136,14 @@ class Rasterizer {
   std::vector<std::vector<int>> run_scratch_;     ///< per thread, AVX2 per-run Gaussian lists
   bool used_simd_ = false;
   std::size_t culled_blocks_ = 0;
-  std::vector<char> block_projected_;  ///< per block of the last forward with blocks
-  /// [begin, end) ranges of Gaussians the last projection looked at, ascending; the rest were
-  /// culled whole (radius 0)
-  std::vector<std::pair<std::size_t, std::size_t>> ranges_;
+  /// Ranges of Gaussians the last projection kept (a block, or a chunk without blocks) that hold
+  /// a visible Gaussian, in map order, with their first visible slot.
+  struct ProjectedUnit {
+    std::size_t lo, hi;
+    int visible;  ///< -1: a block culled whole
+    int first_slot;
+  };
+  std::vector<ProjectedUnit> units_;
 };
 
 extern template class Rasterizer<float>;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "mapping/raster_simd.hpp"
 #include "mapping/rasterizer.hpp"
@@ -151,6 +153,30 @@ TEST(MappingRender, AnyTeamSizeGivesBitIdenticalImagesAndGradients) {
       }
     }
   }
+}
+
+// The binning sums pairs in 64 bits and refuses a view with more than kMaxTilePairs of them
+// (int offsets) before it allocates or counts any: a clear error naming the counts.
+TEST(MappingRender, AViewWithTooManyTilePairsIsAClearError) {
+  const RenderCamera cam = test::small_camera(4096, 4096, 3000.0);  // 65,536 tiles
+  // Gaussians of 10 m deviation, 2-3 m away: each covers every tile
+  const GaussianMap g = test::random_gaussians<float>(4200, 5, 0.9, 0.95, 2.3, 2.4);
+  rt::WorkerTeam pool(2);
+  Rasterizer<float> ras(RasterSettings{}, &pool);
+  RenderResult<float> r;
+  try {
+    ras.forward(g, cam, r);
+    FAIL() << "no error for " << ras.tile_pairs() << " pairs";
+  } catch (const std::length_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(std::to_string(Rasterizer<float>::kMaxTilePairs)), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("of 4200, 65536 tiles"), std::string::npos) << what;
+  }
+  // a share of them is fine
+  const GaussianMap few = test::random_gaussians<float>(10, 5, 0.9, 0.95, 2.3, 2.4);
+  ras.forward(few, cam, r);
+  EXPECT_EQ(ras.tile_pairs(), std::size_t{10} * 65536);
 }
 
 TEST(MappingRender, SimdKernelMatchesScalarWithin1e5) {
