@@ -4,7 +4,9 @@
 // run(fn) calls fn(m) once for every member m in [0, size()) — m = 0 on the calling thread, the
 // others on the team's worker threads — and returns when all are done. The caller partitions the
 // work from m alone (chunk(), for_each_interleaved()) and sums partial results in member order,
-// so a result is bit-identical run to run for the same team size.
+// so a result is bit-identical run to run for the same team size. run_claimed(n, fn) instead
+// hands items out to whichever member is free, for work whose per-item results do not depend on
+// the member (the mapper's: its SCHED_IDLE threads are preempted at any moment).
 //
 // Threads: size() - 1 RtThreads started once in the constructor, each named and scheduled from
 // the thread table. Worker m takes worker_spec(first_worker, m): member 1 is exactly the table
