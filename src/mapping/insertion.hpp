@@ -47,8 +47,8 @@ class GaussianInserter {
   void forget(const GaussianMap& map, const std::vector<char>& keep);
 
   [[nodiscard]] std::size_t occupied_voxels() const { return occupied_.size(); }
-  /// Bytes held by the occupancy set: one key and one control byte per slot of its table (and
-  /// a group's worth of cloned control bytes).
+  /// Bytes held by the occupancy set: one key and one control byte per slot of its table, and
+  /// a group's worth of control bytes more.
   [[nodiscard]] std::size_t occupancy_bytes() const {
     const std::size_t slots = occupied_.capacity();
     return slots == 0 ? 0 : slots * (sizeof(std::uint64_t) + 1) + kControlPadding;
@@ -66,7 +66,9 @@ class GaussianInserter {
   /// samples with its allocator's share beside it) and about 40 bytes per voxel with malloc's
   /// overhead, against about 10-20 here.
   absl::flat_hash_set<std::uint64_t> occupied_;
-  static constexpr std::size_t kControlPadding = 16 + 1;  ///< cloned control bytes + sentinel
+  /// Control bytes beyond one per slot (absl raw_hash_set.h, AllocSize): the sentinel and the
+  /// 15 cloned bytes of a 16-wide SSE2 group (7 of an 8-wide one elsewhere), before alignment.
+  static constexpr std::size_t kControlPadding = 1 + 15;
 };
 
 /// Orientation (w x y z) and standard deviations of a covariance, largest axis first; the
