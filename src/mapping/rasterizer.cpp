@@ -36,15 +36,6 @@ Rasterizer<T>::Rasterizer(RasterSettings settings, rt::WorkerTeam* pool)
 }
 
 template <class T>
-void Rasterizer<T>::run(const std::function<void(int)>& fn) {
-  if (pool_) {
-    pool_->run(fn);
-  } else {
-    fn(0);
-  }
-}
-
-template <class T>
 void Rasterizer<T>::run_claimed(std::size_t n, const std::function<void(int, std::size_t)>& fn) {
   if (pool_) {
     pool_->run_claimed(n, fn);

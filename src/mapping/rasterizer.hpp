@@ -108,7 +108,6 @@ class Rasterizer {
   void number_units();
   void bin_tiles(const RenderCamera& cam);
   void gather_tile(int tile, std::vector<TileGaussian<T>>& buf, const GaussianParams<T>& g) const;
-  void run(const std::function<void(int)>& fn);
   /// fn(member, item) for every item in [0, n), claimed by whichever member is free.
   void run_claimed(std::size_t n, const std::function<void(int, std::size_t)>& fn);
   [[nodiscard]] TileRect tile_rect(int tile, const RenderCamera& cam) const;
@@ -120,8 +119,8 @@ class Rasterizer {
   int tiles_x_ = 0, tiles_y_ = 0;
   std::vector<int> tile_offsets_;  ///< tiles + 1
   std::vector<int> tile_ids_;      ///< Gaussian ids per tile, near to far
-  std::vector<int>
-      chunk_tile_;  ///< binning: per chunk of slots, its pair count then cursor per tile
+  /// binning: per chunk of slots, its pair count, then its cursor, per tile
+  std::vector<int> chunk_tile_;
   std::vector<std::vector<TileGaussian<T>>> gather_;  ///< per thread
   std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread, one tile's gradients
   std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1

@@ -128,12 +128,9 @@ TEST(MappingRender, AnyTeamSizeGivesBitIdenticalImagesAndGradients) {
     Rasterizer<float> one(rs);
     RenderResult<float> a;
     one.forward(g, cam, a);
-    std::vector<float> vc(a.color.size()), vd(a.depth.size()), va(a.depth.size());
-    for (std::size_t i = 0; i < vc.size(); ++i) vc[i] = 0.01f * static_cast<float>(i % 7) - 0.03f;
-    for (std::size_t i = 0; i < vd.size(); ++i) vd[i] = -0.02f + 0.001f * static_cast<float>(i % 5);
-    for (std::size_t i = 0; i < va.size(); ++i) va[i] = 0.005f * static_cast<float>(i % 3);
+    const test::PixelGradients seed(a.depth.size());
     GaussianMap ga;
-    one.backward(g, cam, a, vc.data(), vd.data(), va.data(), ga);
+    one.backward(g, cam, a, seed.color.data(), seed.depth.data(), seed.alpha.data(), ga);
     for (const int members : {2, 3}) {
       rt::WorkerTeam pool(members);
       Rasterizer<float> many(rs, &pool);
@@ -144,7 +141,7 @@ TEST(MappingRender, AnyTeamSizeGivesBitIdenticalImagesAndGradients) {
         ASSERT_EQ(a.depth, b.depth) << members;
         ASSERT_EQ(a.final_T, b.final_T) << members;
         GaussianMap gb;
-        many.backward(g, cam, b, vc.data(), vd.data(), va.data(), gb);
+        many.backward(g, cam, b, seed.color.data(), seed.depth.data(), seed.alpha.data(), gb);
         ASSERT_EQ(ga.mean_w, gb.mean_w) << members << " simd " << simd;
         ASSERT_EQ(ga.log_scale, gb.log_scale) << members;
         ASSERT_EQ(ga.quat_wxyz, gb.quat_wxyz) << members;
