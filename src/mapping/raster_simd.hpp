@@ -17,11 +17,13 @@ inline int tile_runs(const TileRect& r) {
 }
 
 /// Ints of scratch the AVX2 kernels need for a tile of `count` Gaussians: per run, the indices
-/// of the Gaussians that can reach it (out_of_reach false, depth order) and their number. The
-/// caller owns and sizes it (outside the -mavx2 translation units, so that no standard library
-/// code is instantiated there).
+/// of the Gaussians that can reach it (out_of_reach false, depth order) and their number, 8
+/// ints of padding (lists are stored 8 at a time), and each Gaussian's row and column masks.
+/// The caller owns and sizes it (outside the -mavx2 translation units, so that no standard
+/// library code is instantiated there).
 inline std::size_t tile_run_scratch(const TileRect& r, int count) {
-  return static_cast<std::size_t>(tile_runs(r)) * (static_cast<std::size_t>(count) + 1);
+  const auto n = static_cast<std::size_t>(count);
+  return static_cast<std::size_t>(tile_runs(r)) * (n + 1) + 8 + 2 * ((n + 7) / 8 * 8);
 }
 
 /// Same contract as forward_tile_scalar<float>; only call when avx2_kernel_available().

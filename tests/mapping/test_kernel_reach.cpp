@@ -4,8 +4,11 @@
 // gradients with the skip must be bit-identical to those without.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "mapping/raster_simd.hpp"
 #include "mapping/rasterizer.hpp"
@@ -92,6 +95,54 @@ TEST(KernelReach, ScalarKernelsGiveBitIdenticalRenderAndGradients) {
 TEST(KernelReach, Avx2KernelsGiveBitIdenticalRenderAndGradients) {
   if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
   expect_same_with_and_without_skip(true);
+}
+
+// The AVX2 kernels blend each 8-pixel run over a list of the tile's Gaussians that can reach it
+// (fill_tile_runs_avx2, from row and column bit masks). Every list must be exactly the Gaussians
+// out_of_reach() keeps, in tile order, for full and edge tiles, tiles too tall for the masks,
+// and Gaussians without a bound (infinite or NaN reach).
+TEST(KernelReach, Avx2RunListsHoldExactlyTheGaussiansThatReachEachRun) {
+  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> pos(-30.0f, 90.0f), reach(0.0f, 12.0f);
+  const TileRect rects[] = {{32, 48, 48, 64}, {704, 464, 713, 469}, {0, 0, 16, 40}, {3, 5, 4, 6}};
+  for (const TileRect& rect : rects) {
+    for (const int count : {0, 1, 7, 8, 9, 61}) {
+      std::vector<TileGaussian<float>> gs(static_cast<std::size_t>(count));
+      for (int k = 0; k < count; ++k) {
+        TileGaussian<float>& g = gs[static_cast<std::size_t>(k)];
+        g = {};
+        g.x = static_cast<float>(rect.x0) + pos(rng) * static_cast<float>(rect.x1 - rect.x0) / 60;
+        g.y = static_cast<float>(rect.y0) + pos(rng) * static_cast<float>(rect.y1 - rect.y0) / 60;
+        g.reach_x = reach(rng);
+        g.reach_y = reach(rng);
+        if (k % 13 == 5) g.reach_y = std::numeric_limits<float>::infinity();
+        if (k % 17 == 3) g.y = std::numeric_limits<float>::quiet_NaN();
+      }
+      std::vector<int> runs(tile_run_scratch(rect, count), -1);
+      fill_tile_runs_avx2(rect, gs.data(), count, runs.data());
+      const int n_runs = tile_runs(rect);
+      int run = 0, reached = 0;
+      for (int py = rect.y0; py < rect.y1; ++py) {
+        for (int x0 = rect.x0; x0 < rect.x1; x0 += 8, ++run) {
+          const int x1 = std::min(x0 + 8, rect.x1) - 1;
+          std::vector<int> want;
+          for (int k = 0; k < count; ++k)
+            if (!out_of_reach(gs[static_cast<std::size_t>(k)], float(x0), float(x1), float(py)))
+              want.push_back(k);
+          const int* list = runs.data() + n_runs + run * count;
+          const std::vector<int> got(list, list + runs[static_cast<std::size_t>(run)]);
+          ASSERT_EQ(got, want) << "tile " << rect.x0 << "," << rect.y0 << " count " << count
+                               << " row " << py << " x " << x0;
+          reached += static_cast<int>(want.size());
+        }
+      }
+      if (count > 8 && n_runs >= 8) {
+        EXPECT_GT(reached, 0);
+        EXPECT_LT(reached, n_runs * count);  // some runs are out of some Gaussians' reach
+      }
+    }
+  }
 }
 
 }  // namespace
