@@ -1,6 +1,7 @@
 #include "mapping/rasterizer.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -33,6 +34,7 @@ Rasterizer<T>::Rasterizer(RasterSettings settings, rt::WorkerTeam* pool)
   tile_grad_.resize(n);
   simd_scratch_.resize(n);
   run_scratch_.resize(n);
+  sort_keys_.resize(n);
 }
 
 template <class T>
@@ -236,13 +238,28 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
           tile_ids_[static_cast<std::size_t>(cursor[ty * tiles_x_ + tx]++)] = visible_ids_[s];
     }
   });
-  run_claimed(static_cast<std::size_t>(n_tiles), [&](int, std::size_t tile) {
-    auto* b = tile_ids_.data() + tile_offsets_[tile];
-    auto* e = tile_ids_.data() + tile_offsets_[tile + 1];
-    std::sort(b, e, [&](int a, int c) {
-      const T da = proj_.depth[a], dc = proj_.depth[c];
-      return da < dc || (da == dc && a < c);
-    });
+  run_claimed(static_cast<std::size_t>(n_tiles), [&](int t, std::size_t tile) {
+    int* b = tile_ids_.data() + tile_offsets_[tile];
+    int* e = tile_ids_.data() + tile_offsets_[tile + 1];
+    if constexpr (std::is_same_v<T, float>) {
+      // Near to far, ties by id, sorted as 64-bit keys (depth's bits above the id): a visible
+      // Gaussian's depth is finite and beyond the near plane, and positive floats order as their
+      // bit patterns, so this is the comparator's order below without a depth load per compare.
+      std::vector<std::uint64_t>& keys = sort_keys_[static_cast<std::size_t>(t)];
+      keys.resize(static_cast<std::size_t>(e - b));
+      for (std::size_t k = 0; k < keys.size(); ++k) {
+        const int id = b[k];
+        keys[k] = (std::uint64_t{std::bit_cast<std::uint32_t>(proj_.depth[id])} << 32) |
+                  static_cast<std::uint32_t>(id);
+      }
+      std::sort(keys.begin(), keys.end());
+      for (std::size_t k = 0; k < keys.size(); ++k) b[k] = static_cast<int>(keys[k] & 0xffffffffu);
+    } else {
+      std::sort(b, e, [&](int a, int c) {
+        const T da = proj_.depth[a], dc = proj_.depth[c];
+        return da < dc || (da == dc && a < c);
+      });
+    }
   });
 }
 
