@@ -22,9 +22,9 @@ struct MappingSettings {
   int threads = 2;
   double rate_hz = 200.0;  ///< a busy mapper's ticks are longer: back to back
   int iterations_per_tick = 1;
-  int coarse_iterations = 4;   ///< mapping/half_res_view.hpp
-  bool gate_half_res = false;  ///< the insertion gate's render at half resolution
-  double budget_ms = 0.0;      ///< > 0 replaces iterations_per_tick
+  int coarse_iterations = 8;  ///< mapping/half_res_view.hpp
+  bool gate_half_res = true;  ///< the insertion gate's render at half resolution
+  double budget_ms = 0.0;     ///< > 0 replaces iterations_per_tick
   int window_keyframes = 8;
   bool block_culling = true;  ///< mapping/map_blocks.hpp
   int random_keyframes = 2;
