@@ -117,6 +117,41 @@ TEST(MappingRender, OpaqueGaussianClampsAlphaAndStopsEarly) {
   EXPECT_NEAR(r.depth[p], 0.99 * 1.0 + 0.005 * 2.0, 1e-6);
 }
 
+// Each tile's list is blended near to far whatever the Gaussians' ids, and Gaussians at the
+// same depth in id order (the float rasterizer sorts packed depth-and-id keys, the double one
+// compares): the scene above inserted far to near, then a tie.
+TEST(MappingRender, TileListsAreNearToFarWithTiesById) {
+  const RenderCamera cam = identity_camera(32, 32, 50, 16, 16);
+  const float ls[3] = {-1.0f, -1.0f, -1.0f}, q[4] = {1, 0, 0, 0};
+  const float red[3] = {1, 0, 0}, green[3] = {0, 1, 0}, blue[3] = {0, 0, 1};
+  const int p = 16 * 32 + 16;
+  for (const bool simd : {false, true}) {
+    RasterSettings rs;
+    rs.use_simd = simd;
+    Rasterizer<float> ras(rs);
+    RenderResult<float> r;
+    GaussianMap far_first;
+    const float logits[3] = {10.0f, 0.0f, 10.0f};
+    const float* colors[3] = {blue, green, red};
+    for (int i = 0; i < 3; ++i) {
+      const float m[3] = {0, 0, 3.0f - static_cast<float>(i)};
+      far_first.push_back(m, ls, q, logits[i], colors[i]);
+    }
+    ras.forward(far_first, cam, r);
+    EXPECT_NEAR(r.color[3 * p], 0.99, 1e-6) << "simd " << simd;
+    EXPECT_NEAR(r.color[3 * p + 1], 0.01 * 0.5, 1e-6);
+    EXPECT_EQ(r.color[3 * p + 2], 0.0f);
+    EXPECT_EQ(r.n_contrib[p], 2);
+    GaussianMap tie;
+    const float m[3] = {0, 0, 1.0f};
+    tie.push_back(m, ls, q, 0.0f, green);
+    tie.push_back(m, ls, q, 0.0f, red);
+    ras.forward(tie, cam, r);
+    EXPECT_NEAR(r.color[3 * p + 1], 0.5, 1e-6) << "simd " << simd;  // id 0 in front
+    EXPECT_NEAR(r.color[3 * p], 0.25, 1e-6);
+  }
+}
+
 // Tiles are claimed by whichever thread is free, and each Gaussian's gradient is summed over
 // its tiles in its own order: any team size, and any claim order, gives the same bits.
 TEST(MappingRender, AnyTeamSizeGivesBitIdenticalImagesAndGradients) {
