@@ -92,60 +92,57 @@ TEST(MappingRender, ANarrowGaussianIsBinnedOnlyIntoTheTilesItReaches) {
   EXPECT_EQ(pairs, 8u);
 }
 
+// Each tile's list is blended near to far whatever the Gaussians' ids (the float rasterizer sorts
+// packed depth-and-id keys): the scene is inserted near to far and far to near, and rendered by
+// the scalar and the AVX2 kernels.
 TEST(MappingRender, OpaqueGaussianClampsAlphaAndStopsEarly) {
   const RenderCamera cam = identity_camera(32, 32, 50, 16, 16);
-  GaussianMap g;
   const float ls[3] = {-1.0f, -1.0f, -1.0f}, q[4] = {1, 0, 0, 0};
   const float red[3] = {1, 0, 0}, green[3] = {0, 1, 0}, blue[3] = {0, 0, 1};
   // opacities 0.99995 (clamped to 0.99), 0.5, 0.99995: after the second T = 0.005, and the third
   // would take it to 5e-5 < 1e-4, so the pixel stops before it
   const float logits[3] = {10.0f, 0.0f, 10.0f};
   const float* colors[3] = {red, green, blue};
-  for (int i = 0; i < 3; ++i) {
-    const float m[3] = {0, 0, 1.0f + static_cast<float>(i)};
-    g.push_back(m, ls, q, logits[i], colors[i]);
-  }
-  Rasterizer<float> ras;
-  RenderResult<float> r;
-  ras.forward(g, cam, r);
   const int p = 16 * 32 + 16;
-  EXPECT_NEAR(r.color[3 * p], 0.99, 1e-6);
-  EXPECT_NEAR(r.color[3 * p + 1], 0.01 * 0.5, 1e-6);
-  EXPECT_EQ(r.color[3 * p + 2], 0.0f);
-  EXPECT_EQ(r.n_contrib[p], 2);
-  EXPECT_NEAR(r.final_T[p], 0.005, 1e-7);
-  EXPECT_NEAR(r.depth[p], 0.99 * 1.0 + 0.005 * 2.0, 1e-6);
+  for (const bool far_first : {false, true}) {
+    GaussianMap g;
+    for (int k = 0; k < 3; ++k) {
+      const int i = far_first ? 2 - k : k;
+      const float m[3] = {0, 0, 1.0f + static_cast<float>(i)};
+      g.push_back(m, ls, q, logits[i], colors[i]);
+    }
+    for (const bool simd : {false, true}) {
+      RasterSettings rs;
+      rs.use_simd = simd;
+      Rasterizer<float> ras(rs);
+      RenderResult<float> r;
+      ras.forward(g, cam, r);
+      SCOPED_TRACE(testing::Message() << "far first " << far_first << " simd " << simd);
+      EXPECT_NEAR(r.color[3 * p], 0.99, 1e-6);
+      EXPECT_NEAR(r.color[3 * p + 1], 0.01 * 0.5, 1e-6);
+      EXPECT_EQ(r.color[3 * p + 2], 0.0f);
+      EXPECT_EQ(r.n_contrib[p], 2);
+      EXPECT_NEAR(r.final_T[p], 0.005, 1e-7);
+      EXPECT_NEAR(r.depth[p], 0.99 * 1.0 + 0.005 * 2.0, 1e-6);
+    }
+  }
 }
 
-// Each tile's list is blended near to far whatever the Gaussians' ids, and Gaussians at the
-// same depth in id order (the float rasterizer sorts packed depth-and-id keys, the double one
-// compares): the scene above inserted far to near, then a tie.
-TEST(MappingRender, TileListsAreNearToFarWithTiesById) {
+// Gaussians at the same depth blend in id order, by the scalar and the AVX2 kernels.
+TEST(MappingRender, GaussiansAtOneDepthBlendInIdOrder) {
   const RenderCamera cam = identity_camera(32, 32, 50, 16, 16);
   const float ls[3] = {-1.0f, -1.0f, -1.0f}, q[4] = {1, 0, 0, 0};
-  const float red[3] = {1, 0, 0}, green[3] = {0, 1, 0}, blue[3] = {0, 0, 1};
+  const float red[3] = {1, 0, 0}, green[3] = {0, 1, 0};
   const int p = 16 * 32 + 16;
+  GaussianMap tie;
+  const float m[3] = {0, 0, 1.0f};
+  tie.push_back(m, ls, q, 0.0f, green);
+  tie.push_back(m, ls, q, 0.0f, red);
   for (const bool simd : {false, true}) {
     RasterSettings rs;
     rs.use_simd = simd;
     Rasterizer<float> ras(rs);
     RenderResult<float> r;
-    GaussianMap far_first;
-    const float logits[3] = {10.0f, 0.0f, 10.0f};
-    const float* colors[3] = {blue, green, red};
-    for (int i = 0; i < 3; ++i) {
-      const float m[3] = {0, 0, 3.0f - static_cast<float>(i)};
-      far_first.push_back(m, ls, q, logits[i], colors[i]);
-    }
-    ras.forward(far_first, cam, r);
-    EXPECT_NEAR(r.color[3 * p], 0.99, 1e-6) << "simd " << simd;
-    EXPECT_NEAR(r.color[3 * p + 1], 0.01 * 0.5, 1e-6);
-    EXPECT_EQ(r.color[3 * p + 2], 0.0f);
-    EXPECT_EQ(r.n_contrib[p], 2);
-    GaussianMap tie;
-    const float m[3] = {0, 0, 1.0f};
-    tie.push_back(m, ls, q, 0.0f, green);
-    tie.push_back(m, ls, q, 0.0f, red);
     ras.forward(tie, cam, r);
     EXPECT_NEAR(r.color[3 * p + 1], 0.5, 1e-6) << "simd " << simd;  // id 0 in front
     EXPECT_NEAR(r.color[3 * p], 0.25, 1e-6);
