@@ -18,6 +18,16 @@ RenderCamera identity_camera(int w, int h, double f, double cx, double cy) {
   return RenderCamera::from(PinholeCamera{w, h, f, f, cx, cy}, Eigen::Isometry3d::Identity());
 }
 
+/// One forward render of `g` by the scalar or the AVX2 kernels.
+RenderResult<float> render_with(const GaussianMap& g, const RenderCamera& cam, bool simd) {
+  RasterSettings rs;
+  rs.use_simd = simd;
+  Rasterizer<float> ras(rs);
+  RenderResult<float> r;
+  ras.forward(g, cam, r);
+  return r;
+}
+
 /// Renders one Gaussian at camera-frame (0, 0, z) whose axes are rotated by theta about the
 /// optical axis and compares every pixel with the closed form
 ///   Sigma_2D = (f/z)^2 R2 diag(sx^2, sy^2) R2^T + 0.3 I,  alpha = min(0.99, o exp(-d^T C d / 2)).
@@ -112,11 +122,7 @@ TEST(MappingRender, OpaqueGaussianClampsAlphaAndStopsEarly) {
       g.push_back(m, ls, q, logits[i], colors[i]);
     }
     for (const bool simd : {false, true}) {
-      RasterSettings rs;
-      rs.use_simd = simd;
-      Rasterizer<float> ras(rs);
-      RenderResult<float> r;
-      ras.forward(g, cam, r);
+      const RenderResult<float> r = render_with(g, cam, simd);
       SCOPED_TRACE(testing::Message() << "far first " << far_first << " simd " << simd);
       EXPECT_NEAR(r.color[3 * p], 0.99, 1e-6);
       EXPECT_NEAR(r.color[3 * p + 1], 0.01 * 0.5, 1e-6);
@@ -139,11 +145,7 @@ TEST(MappingRender, GaussiansAtOneDepthBlendInIdOrder) {
   tie.push_back(m, ls, q, 0.0f, green);
   tie.push_back(m, ls, q, 0.0f, red);
   for (const bool simd : {false, true}) {
-    RasterSettings rs;
-    rs.use_simd = simd;
-    Rasterizer<float> ras(rs);
-    RenderResult<float> r;
-    ras.forward(tie, cam, r);
+    const RenderResult<float> r = render_with(tie, cam, simd);
     EXPECT_NEAR(r.color[3 * p + 1], 0.5, 1e-6) << "simd " << simd;  // id 0 in front
     EXPECT_NEAR(r.color[3 * p], 0.25, 1e-6);
   }
