@@ -117,37 +117,43 @@ inline void projection_state(const RenderCamera& cam, const T mean[3], const T l
 
 }  // namespace detail
 
+/// project_gaussian()'s first test: false when the Gaussian is behind `near_m` or, by a bound
+/// on its radius, entirely off-screen. Conservative: the radius project_gaussian() computes never
+/// exceeds ceil(3 sqrt(|J|_F^2 s_max^2 + eps2d + 0.32)), so culling with that bound gives exactly
+/// the same result as the full test while skipping the covariance work (most of a large map).
+template <class T>
+inline bool may_reach_image(const RenderCamera& cam, const T mean[3], const T log_scale[3],
+                            T near_m, T eps2d) {
+  const T z = T(cam.R_c_w[6]) * mean[0] + T(cam.R_c_w[7]) * mean[1] + T(cam.R_c_w[8]) * mean[2] +
+              T(cam.t_c_w[2]);
+  if (!(z > near_m)) return false;
+  const T x = T(cam.R_c_w[0]) * mean[0] + T(cam.R_c_w[1]) * mean[1] + T(cam.R_c_w[2]) * mean[2] +
+              T(cam.t_c_w[0]);
+  const T y = T(cam.R_c_w[3]) * mean[0] + T(cam.R_c_w[4]) * mean[1] + T(cam.R_c_w[5]) * mean[2] +
+              T(cam.t_c_w[1]);
+  const T fx = T(cam.fx_px), fy = T(cam.fy_px);
+  const T lim_x = T(1.3 * 0.5 * cam.width_px / cam.fx_px);
+  const T lim_y = T(1.3 * 0.5 * cam.height_px / cam.fy_px);
+  const T rx = std::clamp(x / z, -lim_x, lim_x), ry = std::clamp(y / z, -lim_y, lim_y);
+  const T j2 = (fx * fx * (T(1) + rx * rx) + fy * fy * (T(1) + ry * ry)) / (z * z);
+  const T s_max = std::exp(std::max(log_scale[0], std::max(log_scale[1], log_scale[2])));
+  const T r_bound = std::ceil(T(3) * std::sqrt(j2 * s_max * s_max + eps2d + T(0.32)));
+  const T u = fx * x / z + T(cam.cx_px), v = fy * y / z + T(cam.cy_px);
+  return !(u + r_bound < T(0) || u - r_bound > T(cam.width_px - 1) || v + r_bound < T(0) ||
+           v - r_bound > T(cam.height_px - 1));
+}
+
 /// Projects one Gaussian. Returns false (radius 0) when it is behind `near_m`, degenerate or
-/// entirely off-screen.
+/// entirely off-screen. The float AVX2 path (projection_avx2.hpp) computes the same, bit for bit,
+/// for eight Gaussians that passed may_reach_image() at a time.
 template <class T>
 inline bool project_gaussian(const RenderCamera& cam, const T mean[3], const T log_scale[3],
                              const T quat[4], T near_m, T eps2d, ProjectedGaussian<T>& out) {
   out.radius = 0;
+  if (!may_reach_image(cam, mean, log_scale, near_m, eps2d)) return false;
   detail::ProjectionState<T> st;
-  const T z = T(cam.R_c_w[6]) * mean[0] + T(cam.R_c_w[7]) * mean[1] + T(cam.R_c_w[8]) * mean[2] +
-              T(cam.t_c_w[2]);
-  if (!(z > near_m)) return false;
-  {
-    // Conservative early cull of off-screen Gaussians (most of a large map): the radius below
-    // never exceeds ceil(3 sqrt(|J|_F^2 s_max^2 + eps2d + 0.32)), so culling with that bound
-    // gives exactly the same result as the full test while skipping the covariance work.
-    const T x = T(cam.R_c_w[0]) * mean[0] + T(cam.R_c_w[1]) * mean[1] + T(cam.R_c_w[2]) * mean[2] +
-                T(cam.t_c_w[0]);
-    const T y = T(cam.R_c_w[3]) * mean[0] + T(cam.R_c_w[4]) * mean[1] + T(cam.R_c_w[5]) * mean[2] +
-                T(cam.t_c_w[1]);
-    const T fx = T(cam.fx_px), fy = T(cam.fy_px);
-    const T lim_x = T(1.3 * 0.5 * cam.width_px / cam.fx_px);
-    const T lim_y = T(1.3 * 0.5 * cam.height_px / cam.fy_px);
-    const T rx = std::clamp(x / z, -lim_x, lim_x), ry = std::clamp(y / z, -lim_y, lim_y);
-    const T j2 = (fx * fx * (T(1) + rx * rx) + fy * fy * (T(1) + ry * ry)) / (z * z);
-    const T s_max = std::exp(std::max(log_scale[0], std::max(log_scale[1], log_scale[2])));
-    const T r_bound = std::ceil(T(3) * std::sqrt(j2 * s_max * s_max + eps2d + T(0.32)));
-    const T u = fx * x / z + T(cam.cx_px), v = fy * y / z + T(cam.cy_px);
-    if (u + r_bound < T(0) || u - r_bound > T(cam.width_px - 1) || v + r_bound < T(0) ||
-        v - r_bound > T(cam.height_px - 1))
-      return false;
-  }
   detail::projection_state(cam, mean, log_scale, quat, st);
+  const T z = st.p_c[2];
   const T a = st.cov2d[0] + eps2d, b = st.cov2d[1], c = st.cov2d[2] + eps2d;
   const T det = a * c - b * b;
   if (!(det > T(0))) return false;

@@ -12,6 +12,7 @@
 #include "core/capacity_bytes.hpp"
 #include "core/grow_by_eighths.hpp"
 #include "mapping/projection.hpp"
+#include "mapping/projection_avx2.hpp"
 #include "mapping/raster_simd.hpp"
 
 namespace vigs::mapping {
@@ -46,6 +47,62 @@ void Rasterizer<T>::run_claimed(std::size_t n, const std::function<void(int, std
   }
 }
 
+#if defined(VIGS_MAPPING_AVX2)
+namespace {
+/// project_all()'s loop for float with the AVX2 kernels: opacity and may_reach_image() per
+/// Gaussian here (most of a large map's visible blocks stop there), the covariance part of
+/// project_gaussian() for the rest eight at a time (projection_avx2.hpp). The same Projection
+/// as the scalar loop, bit for bit. Returns how many of [b, e) are visible.
+int project_range_lanes(const GaussianParams<float>& g, const RenderCamera& cam,
+                        const ProjectionCamera& pc, float near_m, float min_alpha,
+                        Projection<float>& proj, std::size_t b, std::size_t e) {
+  constexpr int kLanes = ProjectionLanes::kLanes;
+  ProjectionLanes lanes;
+  std::size_t ids[kLanes];
+  float opacity[kLanes];
+  int n = 0, visible = 0;
+  const auto flush = [&] {
+    const int padded = (n + 7) / 8 * 8;
+    for (int l = n; l < padded; ++l) {  // the batch's tail repeats its first Gaussian
+      for (int k = 0; k < 3; ++k) lanes.mean_w[k][l] = lanes.mean_w[k][0];
+      for (int k = 0; k < 3; ++k) lanes.scale[k][l] = lanes.scale[k][0];
+      for (int k = 0; k < 4; ++k) lanes.quat_wxyz[k][l] = lanes.quat_wxyz[k][0];
+    }
+    project_lanes_avx2(pc, lanes, padded);
+    for (int l = 0; l < n; ++l) {
+      const std::size_t i = ids[l];
+      proj.radius[i] = lanes.radius[l];
+      if (lanes.radius[l] == 0) continue;
+      ++visible;
+      proj.mean2d[2 * i] = lanes.mean2d[0][l];
+      proj.mean2d[2 * i + 1] = lanes.mean2d[1][l];
+      for (int k = 0; k < 3; ++k) proj.conic[3 * i + k] = lanes.conic[k][l];
+      proj.depth[i] = lanes.depth[l];
+      proj.opacity[i] = opacity[l];
+    }
+    n = 0;
+  };
+  for (std::size_t i = b; i < e; ++i) {
+    const float o = sigmoid(g.opacity_logit[i]);
+    const float* mean = &g.mean_w[3 * i];
+    const float* log_scale = &g.log_scale[3 * i];
+    if (o < min_alpha || !may_reach_image(cam, mean, log_scale, near_m, pc.eps2d)) {
+      proj.radius[i] = 0;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) lanes.mean_w[k][n] = mean[k];
+    for (int k = 0; k < 3; ++k) lanes.scale[k][n] = std::exp(log_scale[k]);
+    for (int k = 0; k < 4; ++k) lanes.quat_wxyz[k][n] = g.quat_wxyz[4 * i + k];
+    opacity[n] = o;
+    ids[n++] = i;
+    if (n == kLanes) flush();
+  }
+  if (n > 0) flush();
+  return visible;
+}
+}  // namespace
+#endif
+
 template <class T>
 void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& cam,
                                 MapBlocks* blocks) {
@@ -60,8 +117,21 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
   // skip it: its sigma cut-off is negative), so culling it here renders exactly the same; this
   // is how a removed-but-not-yet-compacted Gaussian (kRemovedLogit) leaves the render at once.
   const T min_alpha = T(settings_.min_alpha);
+#if defined(VIGS_MAPPING_AVX2)
+  bool lanes = false;
+  ProjectionCamera pc{};
+  if constexpr (std::is_same_v<T, float>) {
+    lanes = settings_.use_simd && avx2_kernel_available();
+    if (lanes) pc = ProjectionCamera::from(cam, static_cast<float>(eps));
+  }
+#endif
   // Returns how many of [b, e) are visible.
   auto project_range = [&](std::size_t b, std::size_t e) {
+#if defined(VIGS_MAPPING_AVX2)
+    if constexpr (std::is_same_v<T, float>) {
+      if (lanes) return project_range_lanes(g, cam, pc, near_m, min_alpha, proj_, b, e);
+    }
+#endif
     ProjectedGaussian<T> pg;
     int visible = 0;
     for (std::size_t i = b; i < e; ++i) {
