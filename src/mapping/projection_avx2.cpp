@@ -4,6 +4,8 @@
 
 #include <immintrin.h>
 
+#include "mapping/avx2_math.hpp"
+
 namespace vigs::mapping {
 
 namespace {
@@ -114,7 +116,79 @@ void project8(const ProjectionCamera& cam, ProjectionLanes& L, int o) {
                      _mm256_and_si256(_mm256_cvttps_epi32(r), _mm256_castps_si256(keep)));
 }
 
+/// exp(x), relative error about 1e-7, for x up to 88 (above: exp(88)); an upper or lower bound
+/// only up to that error, which the cull's margins cover.
+inline V exp_ps(V x) {
+  const V big = set(88.0f);
+  const V pos = _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_GT_OQ);
+  // exp(x) = 1 / exp(-x) for x > 0
+  const V neg = _mm256_blendv_ps(x, sub(_mm256_setzero_ps(), _mm256_min_ps(x, big)), pos);
+  const V e = avx2::exp_neg_ps(neg);
+  return _mm256_blendv_ps(e, div(set(1.0f), e), pos);
+}
+
+/// Mask of the eight Gaussians from `i` that may pass (see cull_candidates_avx2).
+inline int may_pass8(const ProjectionCamera& cam, V near_lo, V near_hi, V logit_min,
+                     const float* mean_w, const float* log_scale, const float* logit,
+                     std::size_t i) {
+  const __m256i stride3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+  const float* m = mean_w + 3 * i;
+  const float* l = log_scale + 3 * i;
+  const V m0 = _mm256_i32gather_ps(m, stride3, 4), m1 = _mm256_i32gather_ps(m + 1, stride3, 4),
+          m2 = _mm256_i32gather_ps(m + 2, stride3, 4);
+  const V lmax = _mm256_max_ps(
+      _mm256_max_ps(_mm256_i32gather_ps(l, stride3, 4), _mm256_i32gather_ps(l + 1, stride3, 4)),
+      _mm256_i32gather_ps(l + 2, stride3, 4));
+  const V faint = _mm256_cmp_ps(_mm256_loadu_ps(logit + i), logit_min, _CMP_LT_OQ);
+  const V z = add(dot3(set(cam.R_c_w[6]), m0, set(cam.R_c_w[7]), m1, set(cam.R_c_w[8]), m2),
+                  set(cam.t_c_w[2]));
+  const V behind = _mm256_cmp_ps(z, near_lo, _CMP_LT_OQ);
+  const V x = add(dot3(set(cam.R_c_w[0]), m0, set(cam.R_c_w[1]), m1, set(cam.R_c_w[2]), m2),
+                  set(cam.t_c_w[0]));
+  const V y = add(dot3(set(cam.R_c_w[3]), m0, set(cam.R_c_w[4]), m1, set(cam.R_c_w[5]), m2),
+                  set(cam.t_c_w[1]));
+  const V rx = clamp(div(x, z), set(-cam.lim_x), set(cam.lim_x));
+  const V ry = clamp(div(y, z), set(-cam.lim_y), set(cam.lim_y));
+  const V one = set(1.0f);
+  const V j2 = div(add(mul(set(cam.fx * cam.fx), add(one, mul(rx, rx))),
+                       mul(set(cam.fy * cam.fy), add(one, mul(ry, ry)))),
+                   mul(z, z));
+  const V s2 = exp_ps(add(lmax, lmax));
+  const V r =
+      add(mul(set(3.003f), _mm256_sqrt_ps(add(mul(j2, s2), set(cam.eps2d + 0.32f)))), set(1.5f));
+  const V u = add(div(mul(set(cam.fx), x), z), set(cam.cx));
+  const V v = add(div(mul(set(cam.fy), y), z), set(cam.cy));
+  const V zero = _mm256_setzero_ps();
+  const V off = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(add(u, r), zero, _CMP_LT_OQ),
+                                          _mm256_cmp_ps(sub(u, r), set(cam.max_x), _CMP_GT_OQ)),
+                             _mm256_or_ps(_mm256_cmp_ps(add(v, r), zero, _CMP_LT_OQ),
+                                          _mm256_cmp_ps(sub(v, r), set(cam.max_y), _CMP_GT_OQ)));
+  // off-screen is trusted only in front of the near plane's margin (x / z is tame there)
+  const V in_front = _mm256_cmp_ps(z, near_hi, _CMP_GT_OQ);
+  const V fails = _mm256_or_ps(_mm256_or_ps(faint, behind), _mm256_and_ps(in_front, off));
+  return ~_mm256_movemask_ps(fails) & 0xff;
+}
+
 }  // namespace
+
+int cull_candidates_avx2(const ProjectionCamera& cam, float near_m, float logit_min,
+                         const float* mean_w, const float* log_scale, const float* opacity_logit,
+                         std::size_t b, std::size_t e, std::uint32_t* candidates) {
+  const V near_lo = set(near_m - 1e-3f), near_hi = set(near_m + 1e-3f);
+  const V logit_lo = set(logit_min - 0.01f * (logit_min < 0 ? -logit_min : logit_min) - 1e-3f);
+  int n = 0;
+  std::size_t i = b;
+  for (; i + 8 <= e; i += 8) {
+    int mask = may_pass8(cam, near_lo, near_hi, logit_lo, mean_w, log_scale, opacity_logit, i);
+    while (mask != 0) {
+      const int lane = __builtin_ctz(static_cast<unsigned>(mask));
+      candidates[n++] = static_cast<std::uint32_t>(i + static_cast<std::size_t>(lane));
+      mask &= mask - 1;
+    }
+  }
+  for (; i < e; ++i) candidates[n++] = static_cast<std::uint32_t>(i);
+  return n;
+}
 
 void project_lanes_avx2(const ProjectionCamera& cam, ProjectionLanes& lanes, int n) {
   for (int o = 0; o < n; o += 8) project8(cam, lanes, o);

@@ -49,17 +49,21 @@ void Rasterizer<T>::run_claimed(std::size_t n, const std::function<void(int, std
 
 #if defined(VIGS_MAPPING_AVX2)
 namespace {
-/// project_all()'s loop for float with the AVX2 kernels: opacity and may_reach_image() per
-/// Gaussian here (most of a large map's visible blocks stop there), the covariance part of
-/// project_gaussian() for the rest eight at a time (projection_avx2.hpp). The same Projection
-/// as the scalar loop, bit for bit. Returns how many of [b, e) are visible.
+/// project_all()'s loop for float with the AVX2 kernels: a conservative AVX2 pass drops most of
+/// the Gaussians that fail the opacity test or may_reach_image() (most of a large map's visible
+/// blocks), those tests decide exactly on the rest, and the covariance part of
+/// project_gaussian() runs eight at a time (projection_avx2.hpp). The same Projection as the
+/// scalar loop, bit for bit. Returns how many of [b, e) are visible.
 int project_range_lanes(const GaussianParams<float>& g, const RenderCamera& cam,
                         const ProjectionCamera& pc, float near_m, float min_alpha,
                         Projection<float>& proj, std::size_t b, std::size_t e) {
   constexpr int kLanes = ProjectionLanes::kLanes;
+  constexpr std::size_t kSpan = 256;  // Gaussians per candidate pass
   ProjectionLanes lanes;
   std::size_t ids[kLanes];
   float opacity[kLanes];
+  std::uint32_t candidates[kSpan];
+  const float logit_min = static_cast<float>(std::log(min_alpha / (1.0 - min_alpha)));
   int n = 0, visible = 0;
   const auto flush = [&] {
     const int padded = (n + 7) / 8 * 8;
@@ -82,20 +86,25 @@ int project_range_lanes(const GaussianParams<float>& g, const RenderCamera& cam,
     }
     n = 0;
   };
-  for (std::size_t i = b; i < e; ++i) {
-    const float o = sigmoid(g.opacity_logit[i]);
-    const float* mean = &g.mean_w[3 * i];
-    const float* log_scale = &g.log_scale[3 * i];
-    if (o < min_alpha || !may_reach_image(cam, mean, log_scale, near_m, pc.eps2d)) {
-      proj.radius[i] = 0;
-      continue;
+  for (std::size_t span = b; span < e; span += kSpan) {
+    const std::size_t span_end = std::min(e, span + kSpan);
+    std::fill(proj.radius.begin() + static_cast<std::ptrdiff_t>(span),
+              proj.radius.begin() + static_cast<std::ptrdiff_t>(span_end), 0);
+    const int nc = cull_candidates_avx2(pc, near_m, logit_min, g.mean_w.data(), g.log_scale.data(),
+                                        g.opacity_logit.data(), span, span_end, candidates);
+    for (int c = 0; c < nc; ++c) {
+      const std::size_t i = candidates[c];
+      const float o = sigmoid(g.opacity_logit[i]);
+      const float* mean = &g.mean_w[3 * i];
+      const float* log_scale = &g.log_scale[3 * i];
+      if (o < min_alpha || !may_reach_image(cam, mean, log_scale, near_m, pc.eps2d)) continue;
+      for (int k = 0; k < 3; ++k) lanes.mean_w[k][n] = mean[k];
+      for (int k = 0; k < 3; ++k) lanes.scale[k][n] = std::exp(log_scale[k]);
+      for (int k = 0; k < 4; ++k) lanes.quat_wxyz[k][n] = g.quat_wxyz[4 * i + k];
+      opacity[n] = o;
+      ids[n++] = i;
+      if (n == kLanes) flush();
     }
-    for (int k = 0; k < 3; ++k) lanes.mean_w[k][n] = mean[k];
-    for (int k = 0; k < 3; ++k) lanes.scale[k][n] = std::exp(log_scale[k]);
-    for (int k = 0; k < 4; ++k) lanes.quat_wxyz[k][n] = g.quat_wxyz[4 * i + k];
-    opacity[n] = o;
-    ids[n++] = i;
-    if (n == kLanes) flush();
   }
   if (n > 0) flush();
   return visible;

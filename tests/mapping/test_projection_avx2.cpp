@@ -123,5 +123,51 @@ TEST(ProjectionAvx2, ClampedWideGaussiansMatchToo) {
   EXPECT_GT(visible, 50) << "of " << clamped << " clamped Gaussians";
 }
 
+/// A Gaussian at camera-frame position p_c (metres) of `cam`, in world coordinates.
+void push_at_camera_point(GaussianMap& g, const RenderCamera& cam, const float p_c[3], float ls,
+                          float logit) {
+  float mean[3];
+  for (int k = 0; k < 3; ++k) {  // p_w = R_c_w^T (p_c - t_c_w)
+    double acc = 0;
+    for (int r = 0; r < 3; ++r) acc += cam.R_c_w[3 * r + k] * (p_c[r] - cam.t_c_w[r]);
+    mean[k] = static_cast<float>(acc);
+  }
+  const float scales[3] = {ls, ls - 0.5f, ls - 2.0f};
+  const float q[4] = {0.9f, 0.2f, -0.1f, 0.3f};
+  const float rgb[3] = {0.5f, 0.5f, 0.5f};
+  g.push_back(mean, scales, q, logit, rgb);
+}
+
+// The AVX2 pass that drops Gaussians before the exact tests keeps margins; where the decision
+// changes (sub-pixel steps across the image border at which a Gaussian stops being visible,
+// opacity logits across min_alpha, depths across the near plane) every Gaussian must still
+// come out as in the scalar loop. (A radius margin cut by 2 px is caught by the varied scene
+// above, where some Gaussians' radii come within a pixel of the cull's bound.)
+TEST(ProjectionAvx2, DecidesAsTheScalarCullAtItsEdges) {
+  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
+  const RenderCamera cam = test::small_camera(320, 240, 250.0);
+  const RasterSettings rs;
+  const float logit_min = static_cast<float>(std::log(rs.min_alpha / (1.0 - rs.min_alpha)));
+  GaussianMap border, faint, near;
+  for (int i = 0; i < 2000; ++i) {
+    const float z = 2.0f;
+    const float u = -40.0f + 0.02f * static_cast<float>(i);  // left of the image, to its edge
+    const float p_left[3] = {
+        (u - static_cast<float>(cam.cx_px)) * z / static_cast<float>(cam.fx_px), 0.1f, z};
+    push_at_camera_point(border, cam, p_left, -3.0f, 2.0f);
+    const float p_mid[3] = {0.05f, -0.02f, 1.5f};
+    push_at_camera_point(faint, cam, p_mid, -3.0f,
+                         logit_min - 0.1f + 1e-4f * static_cast<float>(i));
+    const float p_near[3] = {0.0f, 0.0f, 0.005f + 1e-5f * static_cast<float>(i)};
+    push_at_camera_point(near, cam, p_near, -6.0f, 2.0f);
+  }
+  for (const GaussianMap* g : {&border, &faint, &near}) {
+    int visible = 0;
+    expect_same_projection(*g, cam, &visible);
+    EXPECT_GT(visible, 50);  // both outcomes, many of each
+    EXPECT_LT(visible, 1950);
+  }
+}
+
 }  // namespace
 }  // namespace vigs::mapping
