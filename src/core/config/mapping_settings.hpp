@@ -4,9 +4,9 @@
 
 namespace vigs::config {
 
-/// Gaussian-splatting map: loss weights, Adam learning rates (GS-ICP SLAM defaults), pruning,
-/// insertion, the far field, people out of the map (moving mask, see-through pruning) and the
-/// mapper task's schedule. The components' parts (loss, adam, prune, insert, far_field,
+/// Gaussian-splatting map: loss weights, Adam learning rates (GS-ICP SLAM's but for the means),
+/// pruning, insertion, the far field, people out of the map (moving mask, see-through pruning) and
+/// the mapper task's schedule. The components' parts (loss, adam, prune, insert, far_field,
 /// see_through, closer_refine, moving_mask) are declared with their defaults in
 /// mapping_components.hpp; their docs are here.
 struct MappingSettings {
