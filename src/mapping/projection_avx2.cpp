@@ -37,6 +37,21 @@ inline V clamp(V v, V lo, V hi) {
   return _mm256_blendv_ps(r, lo, _mm256_cmp_ps(v, lo, _CMP_LT_OQ));
 }
 
+/// Camera-frame coordinate `row` (0 x, 1 y, 2 z) of world points m: R_c_w's row times m plus t.
+inline V camera_coord(const ProjectionCamera& cam, int row, V m0, V m1, V m2) {
+  return add(dot3(set(cam.R_c_w[3 * row]), m0, set(cam.R_c_w[3 * row + 1]), m1,
+                  set(cam.R_c_w[3 * row + 2]), m2),
+             set(cam.t_c_w[row]));
+}
+/// Lanes whose square of half-width r about pixel (u, v) lies wholly outside the image.
+inline V off_screen(const ProjectionCamera& cam, V u, V v, V r) {
+  const V zero = _mm256_setzero_ps();
+  return _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(add(u, r), zero, _CMP_LT_OQ),
+                                   _mm256_cmp_ps(sub(u, r), set(cam.max_x), _CMP_GT_OQ)),
+                      _mm256_or_ps(_mm256_cmp_ps(add(v, r), zero, _CMP_LT_OQ),
+                                   _mm256_cmp_ps(sub(v, r), set(cam.max_y), _CMP_GT_OQ)));
+}
+
 void project8(const ProjectionCamera& cam, ProjectionLanes& L, int o) {
   const V m0 = _mm256_load_ps(&L.mean_w[0][o]), m1 = _mm256_load_ps(&L.mean_w[1][o]),
           m2 = _mm256_load_ps(&L.mean_w[2][o]);
@@ -63,9 +78,8 @@ void project8(const ProjectionCamera& cam, ProjectionLanes& L, int o) {
     for (int j = 0; j < 3; ++j) M[3 * i + j] = mul(R[3 * i + j], s[j]);
   V Wm[9];
   for (int k = 0; k < 9; ++k) Wm[k] = set(cam.R_c_w[k]);
-  V p[3];
-  for (int i = 0; i < 3; ++i)
-    p[i] = add(dot3(Wm[3 * i], m0, Wm[3 * i + 1], m1, Wm[3 * i + 2], m2), set(cam.t_c_w[i]));
+  const V p[3] = {camera_coord(cam, 0, m0, m1, m2), camera_coord(cam, 1, m0, m1, m2),
+                  camera_coord(cam, 2, m0, m1, m2)};
   V WM[9], S[9];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -101,11 +115,7 @@ void project8(const ProjectionCamera& cam, ProjectionLanes& L, int o) {
   const V lambda_max = add(mid, _mm256_sqrt_ps(_mm256_max_ps(sub(mul(mid, mid), det), set(0.1f))));
   const V r = _mm256_round_ps(mul(set(3.0f), _mm256_sqrt_ps(lambda_max)),
                               _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
-  const V off = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(add(u, r), zero, _CMP_LT_OQ),
-                                          _mm256_cmp_ps(sub(u, r), set(cam.max_x), _CMP_GT_OQ)),
-                             _mm256_or_ps(_mm256_cmp_ps(add(v, r), zero, _CMP_LT_OQ),
-                                          _mm256_cmp_ps(sub(v, r), set(cam.max_y), _CMP_GT_OQ)));
-  const V keep = _mm256_andnot_ps(off, ok);
+  const V keep = _mm256_andnot_ps(off_screen(cam, u, v, r), ok);
   _mm256_store_ps(&L.conic[0][o], div(c, det));
   _mm256_store_ps(&L.conic[1][o], div(_mm256_xor_ps(b, set(-0.0f)), det));
   _mm256_store_ps(&L.conic[2][o], div(a, det));
@@ -140,13 +150,9 @@ inline int may_pass8(const ProjectionCamera& cam, V near_lo, V near_hi, V logit_
       _mm256_max_ps(_mm256_i32gather_ps(l, stride3, 4), _mm256_i32gather_ps(l + 1, stride3, 4)),
       _mm256_i32gather_ps(l + 2, stride3, 4));
   const V faint = _mm256_cmp_ps(_mm256_loadu_ps(logit + i), logit_min, _CMP_LT_OQ);
-  const V z = add(dot3(set(cam.R_c_w[6]), m0, set(cam.R_c_w[7]), m1, set(cam.R_c_w[8]), m2),
-                  set(cam.t_c_w[2]));
+  const V z = camera_coord(cam, 2, m0, m1, m2);
   const V behind = _mm256_cmp_ps(z, near_lo, _CMP_LT_OQ);
-  const V x = add(dot3(set(cam.R_c_w[0]), m0, set(cam.R_c_w[1]), m1, set(cam.R_c_w[2]), m2),
-                  set(cam.t_c_w[0]));
-  const V y = add(dot3(set(cam.R_c_w[3]), m0, set(cam.R_c_w[4]), m1, set(cam.R_c_w[5]), m2),
-                  set(cam.t_c_w[1]));
+  const V x = camera_coord(cam, 0, m0, m1, m2), y = camera_coord(cam, 1, m0, m1, m2);
   const V rx = clamp(div(x, z), set(-cam.lim_x), set(cam.lim_x));
   const V ry = clamp(div(y, z), set(-cam.lim_y), set(cam.lim_y));
   const V one = set(1.0f);
@@ -158,14 +164,10 @@ inline int may_pass8(const ProjectionCamera& cam, V near_lo, V near_hi, V logit_
       add(mul(set(3.003f), _mm256_sqrt_ps(add(mul(j2, s2), set(cam.eps2d + 0.32f)))), set(1.5f));
   const V u = add(div(mul(set(cam.fx), x), z), set(cam.cx));
   const V v = add(div(mul(set(cam.fy), y), z), set(cam.cy));
-  const V zero = _mm256_setzero_ps();
-  const V off = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(add(u, r), zero, _CMP_LT_OQ),
-                                          _mm256_cmp_ps(sub(u, r), set(cam.max_x), _CMP_GT_OQ)),
-                             _mm256_or_ps(_mm256_cmp_ps(add(v, r), zero, _CMP_LT_OQ),
-                                          _mm256_cmp_ps(sub(v, r), set(cam.max_y), _CMP_GT_OQ)));
   // off-screen is trusted only in front of the near plane's margin (x / z is tame there)
   const V in_front = _mm256_cmp_ps(z, near_hi, _CMP_GT_OQ);
-  const V fails = _mm256_or_ps(_mm256_or_ps(faint, behind), _mm256_and_ps(in_front, off));
+  const V fails =
+      _mm256_or_ps(_mm256_or_ps(faint, behind), _mm256_and_ps(in_front, off_screen(cam, u, v, r)));
   return ~_mm256_movemask_ps(fails) & 0xff;
 }
 

@@ -107,8 +107,8 @@ TEST(ProjectionAvx2, ClampedWideGaussiansMatchToo) {
   if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
   // large Gaussians far outside the 1.3 x half-FOV clamp whose footprint still reaches the image
   GaussianMap g;
-  int clamped = 0;
-  for (int i = 0; i < 400; ++i) {
+  constexpr int kClamped = 400;
+  for (int i = 0; i < kClamped; ++i) {
     const float z = 1.0f + 0.01f * static_cast<float>(i);
     const float side = (i % 2 == 0 ? 1.0f : -1.0f) * (1.2f + 0.004f * static_cast<float>(i)) * z;
     const float mean[3] = {i % 4 < 2 ? side : 0.0f, i % 4 < 2 ? 0.0f : side, z};
@@ -116,11 +116,10 @@ TEST(ProjectionAvx2, ClampedWideGaussiansMatchToo) {
     const float q[4] = {1.0f, 0.1f * static_cast<float>(i % 7), 0.2f, -0.1f};
     const float rgb[3] = {0.5f, 0.5f, 0.5f};
     g.push_back(mean, ls, q, 2.0f, rgb);
-    ++clamped;
   }
   int visible = 0;
   expect_same_projection(g, test::small_camera(320, 240, 250.0), &visible);
-  EXPECT_GT(visible, 50) << "of " << clamped << " clamped Gaussians";
+  EXPECT_GT(visible, 50) << "of " << kClamped << " clamped Gaussians";
 }
 
 /// A Gaussian at camera-frame position p_c (metres) of `cam`, in world coordinates.
