@@ -1,7 +1,8 @@
 #pragma once
 // The mapper task's body: ingest keyframes from the tracker's ring, insert their Gaussians and
-// run optimisation iterations, newest keyframe first, then rounds over a window of recent
-// keyframes plus a few random older ones. tick() is what the fixed-rate rt::PeriodicTask calls.
+// run optimisation iterations, newest keyframe first, then rounds of a few random older
+// keyframes followed by a window of recent ones, newest first. tick() is what the fixed-rate
+// rt::PeriodicTask calls.
 //
 // Time budget (mapping.budget_ms > 0): a tick's insertion and iterations share the budget; an
 // iteration starts only while time is left, so a tick overruns by less than one iteration (plus
@@ -153,6 +154,7 @@ class Mapper {
   std::vector<std::unique_ptr<MapperKeyframe>> keyframes_;  ///< oldest first
   std::vector<std::size_t> round_;                          ///< indices still to train this round
   bool newest_pending_ = false;
+  bool newest_trained_ = false;  ///< the newest keyframe was the last one trained
   std::mt19937 rng_{12345};
   std::atomic<bool> snapshot_requested_{false};
   std::atomic<std::shared_ptr<const GaussianMap>> snapshot_;

@@ -132,13 +132,18 @@ TEST(MappingMapper, IngestsNewestFirstAndLowersTheLoss) {
   mapper.tick();
   EXPECT_EQ(mapper.last_trained_id(), 4u);
   EXPECT_LT(mapper.map().size(), inserted + 5);
-  // then rounds: window (4, 3) newest first, then one random older keyframe
+  // then rounds: one random older keyframe first, then the window (4, 3) newest first; the
+  // round right after the newest keyframe's own iteration leaves it out (not 4 twice in a row)
   mapper.tick();
-  EXPECT_EQ(mapper.last_trained_id(), 4u);
+  EXPECT_LE(mapper.last_trained_id(), 2u);
   mapper.tick();
   EXPECT_EQ(mapper.last_trained_id(), 3u);
   mapper.tick();
   EXPECT_LE(mapper.last_trained_id(), 2u);
+  mapper.tick();
+  EXPECT_EQ(mapper.last_trained_id(), 4u);
+  mapper.tick();
+  EXPECT_EQ(mapper.last_trained_id(), 3u);
   float first = 0, last = 0;
   for (int t = 0; t < 150; ++t) {
     mapper.tick();
