@@ -2,6 +2,7 @@
 // Gaussian map offline from posed RGB-D frames with the mapping back end alone.
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <iostream>
 #include <numeric>
 #include <random>
@@ -70,6 +71,7 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
       mapping::Rasterizer<float> far_raster;
       mapping::RenderResult<float> far_render;
       std::size_t far = 0;
+      std::vector<std::uint8_t> far_flag;  // per Gaussian: 1 for the far field's
       mapping::RgbdSampling sampling;
       sampling.stride_px = stride;
       sampling.min_depth_m = cfg.camera.min_depth_m;
@@ -104,10 +106,12 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
         const bool gated = map.size() > 0;
         if (gated) far_raster.forward(map, f.view.camera, far_render);
         inserter.insert(map, mapping::keyframe_from_rgbd(k, rgb, depth, list[i].T_w_c, sampling));
+        far_flag.resize(map.size(), 0);
         far += mapping::insert_far_field(
             map, {f.view.camera, f.view.rgb, f.view.depth_m}, gated ? &far_render : nullptr,
             cfg.mapping.far_field, cfg.mapping.insert.cover, cfg.mapping.insert.opacity,
             mapping::GateSettings{}.max_alpha, 0.9 * cfg.mapping.prune.max_scale_m);
+        far_flag.resize(map.size(), 1);
       }
       const std::size_t inserted = map.size();
       if (inserted == 0)
@@ -124,7 +128,15 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
         const auto slot = static_cast<std::size_t>(it) % order.size();
         if (slot == 0) std::shuffle(order.begin(), order.end(), rng);
         std::size_t removed = 0;
-        last = opt.iterate(map, frames[order[slot]].view, &removed);
+        last = opt.iterate(map, frames[order[slot]].view, &removed,
+                           cfg.mapping.far_field.fixed_geometry ? far_flag.data() : nullptr);
+        if (removed > 0) {  // the flags follow the map
+          const std::vector<char>& keep = opt.last_prune_keep();
+          std::size_t out = 0;
+          for (std::size_t g = 0; g < far_flag.size(); ++g)
+            if (keep[g]) far_flag[out++] = far_flag[g];
+          far_flag.resize(out);
+        }
         pruned += removed;
         if (!quiet && (it + 1) % 100 == 0)
           std::cerr << "vigs map: iteration " << it + 1 << "/" << iterations << " loss "

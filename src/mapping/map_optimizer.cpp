@@ -30,7 +30,7 @@ MapOptimizer::MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* poo
       use_blocks_(s.block_culling) {}
 
 LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& view,
-                                       std::size_t* pruned) {
+                                       std::size_t* pruned, const std::uint8_t* fixed_geometry) {
   raster_.forward(map, view.camera, render_, blocks());
   const std::size_t np = static_cast<std::size_t>(render_.width) * render_.height;
   v_color_.resize(3 * np);
@@ -42,6 +42,9 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
   // fused: each Gaussian's gradient goes straight into its Adam update, no gradient copy
   const auto grad_of = [&](std::size_t i, float* g) {
     raster_.gaussian_gradient(map, view.camera, i, g);
+    // mean (3), log-scale (3), quaternion (4) first: no gradient, so Adam's moments stay zero
+    // and the step is zero
+    if (fixed_geometry && fixed_geometry[i]) std::fill(g, g + 10, 0.0f);
   };
   const auto ranges = [&](std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn) {
     raster_.for_ranges(n, fn);

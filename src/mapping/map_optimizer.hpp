@@ -6,6 +6,7 @@
 // per-pair gradients and tile lists) is reported by bytes_per_gaussian(); the mapper's
 // whole account, by owner, is Mapper::memory() (mapper_memory.hpp).
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/config/mapping_settings.hpp"
@@ -32,8 +33,12 @@ class MapOptimizer {
   MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* pool);
 
   /// One iteration; prunes (and returns the count in `pruned`) every prune_every iterations.
+  /// With `fixed_geometry` (one per Gaussian of `map`), the Gaussians whose entry is non-zero
+  /// keep their mean, scale and rotation: only their colour and opacity are trained (the far
+  /// field's, mapping.far_field_fixed_geometry).
   LossTerms<float> iterate(GaussianMap& map, const TrainingView& view,
-                           std::size_t* pruned = nullptr);
+                           std::size_t* pruned = nullptr,
+                           const std::uint8_t* fixed_geometry = nullptr);
 
   /// Removes Gaussians from the map and the optimiser state; returns the count removed. The
   /// mask it used stays readable (last_prune_keep()) for state kept beside the map.

@@ -62,7 +62,8 @@ void Mapper::iterate_once() {
   ++kf.trained;
   if (coarse) coarse_.add(1);
   std::size_t pruned = 0;
-  const auto terms = optimizer_.iterate(map_, view, &pruned);
+  const auto terms = optimizer_.iterate(map_, view, &pruned,
+                                        s_.far_field.fixed_geometry ? far_flag_.data() : nullptr);
   if (pruned > 0) after_prune();
   last_id_.store(kf.id);
   last_loss_.store(terms.total);
@@ -100,12 +101,18 @@ void Mapper::tick() {
       gated_.add(kf->gaussians.points_c.size() - kept);
       keep = &gate_keep_;
     }
+    const std::size_t first_new = map_.size();
     inserter_.insert(map_, kf->gaussians, keep);
+    const std::size_t first_far = map_.size();
     insert_far_field(*kf, keep != nullptr);
-    const std::size_t first_new = anchor_.size();
     resize_by_eighths(anchor_, map_.size());  // capacity as the map's arrays grow
     std::fill(anchor_.begin() + static_cast<std::ptrdiff_t>(first_new), anchor_.end(),
               static_cast<std::uint32_t>(kf->id));
+    resize_by_eighths(far_flag_, map_.size());
+    std::fill(far_flag_.begin() + static_cast<std::ptrdiff_t>(first_new),
+              far_flag_.begin() + static_cast<std::ptrdiff_t>(first_far), std::uint8_t{0});
+    std::fill(far_flag_.begin() + static_cast<std::ptrdiff_t>(first_far), far_flag_.end(),
+              std::uint8_t{1});
     kf->gaussians = KeyframeGaussians{};  // points are in the map now; keep only the view
     if (s_.coarse_iterations > 0 && kf->camera.width_px >= 2 && !kf->rgb.empty())
       make_half_res_view(kf->camera, kf->rgb.data(),
@@ -135,11 +142,9 @@ void Mapper::insert_far_field(const MapperKeyframe& kf, bool rendered) {
   if (kf.camera.width_px <= 0 || kf.rgb.empty()) return;
   const FarFieldView view{kf.camera, kf.rgb.data(),
                           kf.depth_m.empty() ? nullptr : kf.depth_m.data()};
-  const std::size_t first = map_.size();
   far_.add(mapping::insert_far_field(map_, view, rendered ? &gate_render_ : nullptr, s_.far_field,
                                      s_.insert.cover, s_.insert.opacity, gate_.max_alpha,
                                      0.9 * s_.prune.max_scale_m));
-  if (s_.see_through.enabled) seen_through_.mark_far(first, map_.size());
 }
 
 }  // namespace vigs::mapping
@@ -150,9 +155,14 @@ void Mapper::after_prune() {
   inserter_.rebuild(map_);
   const std::vector<char>& keep = optimizer_.last_prune_keep();
   std::size_t out = 0;
-  for (std::size_t i = 0; i < anchor_.size(); ++i)
-    if (keep[i]) anchor_[out++] = anchor_[i];
+  for (std::size_t i = 0; i < anchor_.size(); ++i) {
+    if (!keep[i]) continue;
+    anchor_[out] = anchor_[i];
+    far_flag_[out] = far_flag_[i];
+    ++out;
+  }
   anchor_.resize(out);
+  far_flag_.resize(out);
   if (s_.see_through.enabled) seen_through_.compact(optimizer_.last_prune_keep());
 }
 
@@ -160,7 +170,8 @@ void Mapper::prune_seen_through(const MapperKeyframe& kf) {
   if (!s_.see_through.enabled || kf.depth_m.empty() || kf.camera.width_px <= 0) return;
   const std::size_t condemned = seen_through_.vote(
       map_, kf.camera, kf.depth_m.data(), removal_keep_, optimizer_.blocks(),
-      anchor_.size() == map_.size() ? anchor_.data() : nullptr, static_cast<std::uint32_t>(kf.id));
+      anchor_.size() == map_.size() ? anchor_.data() : nullptr, static_cast<std::uint32_t>(kf.id),
+      far_flag_.size() == map_.size() ? far_flag_.data() : nullptr);
   if (condemned == 0) return;
   mark_removed(removal_keep_);
   seen_through_pruned_.add(condemned);
@@ -210,7 +221,7 @@ std::size_t Mapper::move_keyframes(const std::vector<KeyframeCorrection>& correc
 MapperMemory Mapper::memory() const {
   MapperMemory m;
   m.gaussians = map_.size();
-  m.map_params_bytes = map_.capacity_bytes() + capacity_bytes(anchor_);
+  m.map_params_bytes = map_.capacity_bytes() + capacity_bytes(anchor_) + capacity_bytes(far_flag_);
   m.adam_moments_bytes = optimizer_.moment_bytes();
   m.optimizer_buffers_bytes = optimizer_.buffer_bytes();
   m.occupancy_bytes = inserter_.occupancy_bytes();

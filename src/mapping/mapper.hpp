@@ -93,6 +93,9 @@ class Mapper {
   [[nodiscard]] const GaussianMap& map() const { return map_; }  ///< mapper thread only
   /// The id of the keyframe that inserted each Gaussian of map(); mapper thread only.
   [[nodiscard]] const std::vector<std::uint32_t>& anchors() const { return anchor_; }
+  /// Per Gaussian of map(): 1 for the far field's Gaussians, 0 for the others; mapper thread
+  /// only.
+  [[nodiscard]] const std::vector<std::uint8_t>& far_flags() const { return far_flag_; }
 
   /// Moves the Gaussians each listed keyframe inserted, and its training view if still held,
   /// by the keyframe's correction (ids unique). Mapper thread only (between ticks), or after
@@ -148,7 +151,8 @@ class Mapper {
   KeyframeRing& ring_;
   std::size_t max_pending_, max_keyframes_;
   GaussianMap map_;
-  std::vector<std::uint32_t> anchor_;  ///< per Gaussian: MapperKeyframe::id that inserted it
+  std::vector<std::uint32_t> anchor_;   ///< per Gaussian: MapperKeyframe::id that inserted it
+  std::vector<std::uint8_t> far_flag_;  ///< per Gaussian: 1 for the far field's (far_field.hpp)
   GaussianInserter inserter_;
   MapOptimizer optimizer_;
   std::vector<std::unique_ptr<MapperKeyframe>> keyframes_;  ///< oldest first

@@ -18,22 +18,21 @@ void add_one(std::uint16_t& c) {
 
 std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
                              std::vector<char>& keep, MapBlocks* blocks,
-                             const std::uint32_t* anchor, std::uint32_t voter_id) {
+                             const std::uint32_t* anchor, std::uint32_t voter_id,
+                             const std::uint8_t* far) {
   const std::size_t n = map.size();
   if (through_.size() > n) {  // the map lost Gaussians without compact(): counts are stale
     through_.clear();
     seen_.clear();
-    far_.clear();
   }
   through_.resize(n, 0);  // Gaussians appended since the last vote start with none
   seen_.resize(n, 0);
-  far_.resize(n, 0);
   keep.assign(n, 1);
   if (!depth_m || cam.width_px < 3 || cam.height_px < 3) return 0;
   // the vote looks only at means inside the image in front of the camera (z > 1 mm)
   std::size_t pruned = 0;
   for_ranges_in_view(map, cam, blocks, [&](std::size_t lo, std::size_t hi) {
-    pruned += vote_range(map, cam, depth_m, lo, hi, keep, anchor, voter_id);
+    pruned += vote_range(map, cam, depth_m, lo, hi, keep, anchor, voter_id, far);
   });
   return pruned;
 }
@@ -41,7 +40,7 @@ std::size_t SeeThrough::vote(const GaussianMap& map, const RenderCamera& cam, co
 std::size_t SeeThrough::vote_range(const GaussianMap& map, const RenderCamera& cam,
                                    const float* depth_m, std::size_t lo, std::size_t hi,
                                    std::vector<char>& keep, const std::uint32_t* anchor,
-                                   std::uint32_t voter_id) {
+                                   std::uint32_t voter_id, const std::uint8_t* far_flags) {
   const int w = cam.width_px, h = cam.height_px;
   const double* R = cam.R_c_w;
   const double* t = cam.t_c_w;
@@ -65,7 +64,7 @@ std::size_t SeeThrough::vote_range(const GaussianMap& map, const RenderCamera& c
     const double margin = s_.margin_m + s_.margin_per_m * z;
     const double far_z = z + margin;
     // a far-field Gaussian stands for "no depth here": a missing pixel agrees with it
-    const bool far = far_[i] != 0;
+    const bool far = far_flags != nullptr && far_flags[i] != 0;
     const bool missing_far = s_.missing_far && !far;
     bool all_behind = true, votes = true;
     for (int dv = -1; dv <= 1 && votes; ++dv) {
@@ -105,21 +104,10 @@ void SeeThrough::compact(const std::vector<char>& keep) {
     if (!keep[i]) continue;
     through_[out] = through_[i];
     seen_[out] = seen_[i];
-    far_[out] = far_[i];
     ++out;
   }
   through_.resize(out);
   seen_.resize(out);
-  far_.resize(out);
-}
-
-void SeeThrough::mark_far(std::size_t first, std::size_t last) {
-  if (last > through_.size()) {
-    through_.resize(last, 0);
-    seen_.resize(last, 0);
-    far_.resize(last, 0);
-  }
-  for (std::size_t i = first; i < last; ++i) far_[i] = 1;
 }
 
 }  // namespace vigs::mapping

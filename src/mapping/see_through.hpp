@@ -7,8 +7,8 @@
 //   behind free space where the Gaussian is (a person who stood there for a moment, a Gaussian
 //   inserted before the tracker recognised the person as moving). With missing_far a pixel
 //   without depth counts as behind (beyond the range: a corridor's end, as the far field takes
-//   it), except for the far field's own Gaussians (mark_far), which stand for "no depth" and
-//   which such a pixel agrees with;
+//   it), except for the far field's own Gaussians (the `far` flags), which stand for "no
+//   depth" and which such a pixel agrees with;
 // - "seen" when the centre pixel's depth is within that margin of the Gaussian's (or missing,
 //   for a far-field Gaussian);
 // - nothing when the Gaussian is hidden (a surface in front of it), outside the image, near a
@@ -21,9 +21,9 @@
 // (tens of centimetres before a loop closes), which would condemn static surfaces that only
 // the inserting keyframe and the revisit ever saw (the floor at a run's start). The neighbourhood
 // test keeps depth edges from voting through the thin Gaussians along them. Counts are two
-// saturating 16-bit numbers and a far flag per Gaussian (5 bytes), kept aligned with the map
-// through compact() after any other pruning. One pass over the Gaussians per keyframe, no
-// allocation per Gaussian.
+// saturating 16-bit numbers per Gaussian (4 bytes), kept aligned with the map through compact()
+// after any other pruning; the far flags are the caller's (the Mapper keeps them with the map). One
+// pass over the Gaussians per keyframe, no allocation per Gaussian.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -50,33 +50,32 @@ class SeeThrough {
   /// are visited; the votes are the same.
   /// With `anchor` (one keyframe id per Gaussian, the keyframe that inserted it) and
   /// max_age_keyframes > 0, keyframe `voter_id` votes only on Gaussians inserted at most
-  /// max_age_keyframes keyframes before it.
+  /// max_age_keyframes keyframes before it. `far` (one per Gaussian, non-zero for the far
+  /// field's Gaussians; null: none is) says which stand for "no depth".
   std::size_t vote(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
                    std::vector<char>& keep, MapBlocks* blocks = nullptr,
-                   const std::uint32_t* anchor = nullptr, std::uint32_t voter_id = 0);
+                   const std::uint32_t* anchor = nullptr, std::uint32_t voter_id = 0,
+                   const std::uint8_t* far = nullptr);
 
   /// Keeps the counts of the Gaussians whose keep[i] is non-zero, as GaussianParams::compact.
   void compact(const std::vector<char>& keep);
-  /// Gaussians [first, last) of the map are far-field Gaussians (far_field.hpp).
-  void mark_far(std::size_t first, std::size_t last);
 
   [[nodiscard]] std::uint16_t through(std::size_t i) const { return through_[i]; }
   [[nodiscard]] std::uint16_t seen(std::size_t i) const { return seen_[i]; }
-  [[nodiscard]] bool far(std::size_t i) const { return far_[i] != 0; }
   [[nodiscard]] std::size_t size() const { return through_.size(); }
-  /// Bytes held (capacity of the counts and flags).
+  /// Bytes held (capacity of the counts).
   [[nodiscard]] std::size_t bytes() const {
-    return (through_.capacity() + seen_.capacity()) * sizeof(std::uint16_t) + far_.capacity();
+    return (through_.capacity() + seen_.capacity()) * sizeof(std::uint16_t);
   }
   [[nodiscard]] const SeeThroughSettings& settings() const { return s_; }
 
  private:
   std::size_t vote_range(const GaussianMap& map, const RenderCamera& cam, const float* depth_m,
                          std::size_t lo, std::size_t hi, std::vector<char>& keep,
-                         const std::uint32_t* anchor, std::uint32_t voter_id);
+                         const std::uint32_t* anchor, std::uint32_t voter_id,
+                         const std::uint8_t* far_flags);
   SeeThroughSettings s_;
   std::vector<std::uint16_t> through_, seen_;
-  std::vector<std::uint8_t> far_;
 };
 
 }  // namespace vigs::mapping

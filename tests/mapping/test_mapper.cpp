@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -90,6 +91,102 @@ TEST(MappingMapper, FillsWhatHasNoDepthWithFarGaussiansOnce) {
   std::printf("far field in the mapper: %zu far Gaussians, then +%zu on a revisit\n", far,
               static_cast<std::size_t>(mapper.far_gaussians() - far));
   EXPECT_LE(mapper.far_gaussians(), far + far / 20);
+}
+
+// mapping.far_field_fixed_geometry: the far field's Gaussians (far_flags()) keep the mean,
+// scale and rotation insertion gave them while training changes their colour and opacity; the
+// keyframe's point Gaussians move. Off, the far Gaussians move too.
+TEST(MappingMapper, FarGaussiansKeepTheirGeometryAndLearnTheirColour) {
+  const GaussianMap truth = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
+  for (const bool fixed : {true, false}) {
+    config::MappingSettings s = test_settings();
+    s.far_field.depth_m = 15.0;
+    s.far_field.fixed_geometry = fixed;
+    s.prune_every = 100000;  // no compaction: indices stay
+    s.closer_refine.ratio = 0.0;
+    s.see_through.enabled = false;
+    KeyframeRing ring(8);
+    Mapper mapper(s, ring, nullptr);
+    ASSERT_TRUE(ring.try_push(make_keyframe(truth, 1)));
+    mapper.tick();
+    const GaussianMap before = mapper.map();
+    const std::vector<std::uint8_t> flags = mapper.far_flags();
+    ASSERT_EQ(flags.size(), before.size());
+    for (int t = 0; t < 30; ++t) mapper.tick();
+    ASSERT_EQ(mapper.map().size(), before.size());
+    const GaussianMap& after = mapper.map();
+    std::size_t far = 0, far_moved = 0, far_recoloured = 0, points = 0, points_moved = 0;
+    for (std::size_t i = 0; i < before.size(); ++i) {
+      bool moved = false, recoloured = after.opacity_logit[i] != before.opacity_logit[i];
+      for (int k = 0; k < 3; ++k) {
+        moved |= after.mean_w[3 * i + k] != before.mean_w[3 * i + k] ||
+                 after.log_scale[3 * i + k] != before.log_scale[3 * i + k];
+        recoloured |= after.color_rgb[3 * i + k] != before.color_rgb[3 * i + k];
+      }
+      for (int k = 0; k < 4; ++k)
+        moved |= after.quat_wxyz[4 * i + k] != before.quat_wxyz[4 * i + k];
+      if (flags[i]) {
+        ++far;
+        far_moved += moved;
+        far_recoloured += recoloured;
+      } else {
+        ++points;
+        points_moved += moved;
+      }
+    }
+    std::printf(
+        "fixed geometry %d: %zu far Gaussians, %zu moved, %zu recoloured; %zu of %zu "
+        "points moved\n",
+        fixed, far, far_moved, far_recoloured, points_moved, points);
+    ASSERT_GT(far, 10u);
+    EXPECT_EQ(far, static_cast<std::size_t>(mapper.far_gaussians()));
+    EXPECT_GT(points_moved, points / 2);
+    EXPECT_GT(far_recoloured, far / 2);
+    if (fixed) {
+      EXPECT_EQ(far_moved, 0u);
+    } else {
+      EXPECT_GT(far_moved, far / 2);
+    }
+  }
+}
+
+// The far flags follow the map through the optimiser's pruning: afterwards exactly the far
+// field's Gaussians (found by their unchanged means) are flagged.
+TEST(MappingMapper, FarFlagsFollowTheMapThroughPruning) {
+  const GaussianMap truth = test::random_gaussians<float>(60, 17, 0.5, 0.9, -2.5, -1.8);
+  config::MappingSettings s = test_settings();
+  s.far_field.depth_m = 15.0;
+  s.prune_every = 3;
+  s.prune.max_scale_m = 0.15;  // every third point is 0.2 m wide: pruned on the way
+  KeyframeRing ring(8);
+  Mapper mapper(s, ring, nullptr);
+  std::vector<std::array<float, 3>> far_means;
+  std::size_t pruned_away = 0;
+  for (std::uint64_t id = 1; id <= 3; ++id) {
+    auto kf = make_keyframe(truth, id);
+    for (std::size_t i = 0; i < kf->gaussians.points_c.size(); i += 3)
+      kf->gaussians.covariances_c[i] *= 4.0f;
+    ASSERT_TRUE(ring.try_push(std::move(kf)));
+    mapper.tick();
+    const std::size_t before = mapper.map().size();
+    for (int t = 0; t < 6; ++t) mapper.tick();
+    pruned_away += before - mapper.map().size();
+    const GaussianMap& m = mapper.map();
+    ASSERT_EQ(mapper.far_flags().size(), m.size());
+    for (std::size_t i = 0; i < m.size(); ++i)
+      if (mapper.far_flags()[i])
+        far_means.push_back({m.mean_w[3 * i], m.mean_w[3 * i + 1], m.mean_w[3 * i + 2]});
+  }
+  ASSERT_GT(pruned_away, 0u);
+  const GaussianMap& m = mapper.map();
+  std::size_t flagged = 0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const std::array<float, 3> mean = {m.mean_w[3 * i], m.mean_w[3 * i + 1], m.mean_w[3 * i + 2]};
+    const bool was_far = std::find(far_means.begin(), far_means.end(), mean) != far_means.end();
+    EXPECT_EQ(mapper.far_flags()[i] != 0, was_far) << "Gaussian " << i;
+    flagged += mapper.far_flags()[i];
+  }
+  EXPECT_GT(flagged, 10u);
 }
 
 TEST(MappingMapper, GateAtHalfResolutionStillGatesPointsAndFarField) {

@@ -122,19 +122,23 @@ TEST(SeeThrough, MissingDepthIsFarExceptForFarFieldGaussians) {
   SeeThroughSettings s;
   s.min_count = 1;
   std::vector<char> keep;
+  const std::vector<std::uint8_t> far = {0, 1};
   SeeThrough st(s);
-  st.mark_far(1, 2);
-  EXPECT_EQ(st.vote(map, camera(), d.data(), keep), 1u);
+  EXPECT_EQ(st.vote(map, camera(), d.data(), keep, nullptr, nullptr, 0, far.data()), 1u);
   EXPECT_EQ(keep, (std::vector<char>{0, 1}));
   EXPECT_EQ(st.seen(1), 1);  // the disc agrees with "no depth"
   s.missing_far = false;     // off: a pixel without depth does not vote
   SeeThrough unknown(s);
-  unknown.mark_far(1, 2);
-  EXPECT_EQ(unknown.vote(map, camera(), d.data(), keep), 0u);
+  EXPECT_EQ(unknown.vote(map, camera(), d.data(), keep, nullptr, nullptr, 0, far.data()), 0u);
   EXPECT_EQ(unknown.through(0) + unknown.seen(0), 0);
   // a far disc that a later view sees a surface well behind is seen through as any other
   d = flat_depth(25.0f);
-  EXPECT_EQ(unknown.vote(map, camera(), d.data(), keep), 2u);
+  EXPECT_EQ(unknown.vote(map, camera(), d.data(), keep, nullptr, nullptr, 0, far.data()), 2u);
+  // without the flags the disc is a Gaussian like any other: "no depth" is behind it
+  s.missing_far = true;
+  SeeThrough unflagged(s);
+  d = flat_depth(0.0f);
+  EXPECT_EQ(unflagged.vote(map, camera(), d.data(), keep), 2u);
 }
 
 TEST(SeeThrough, KeepsWhatMostViewsSeeOnTheSurface) {

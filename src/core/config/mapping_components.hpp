@@ -52,6 +52,12 @@ struct InsertSettings {
 struct FarFieldSettings {
   double depth_m = 15.0;  ///< camera depth of the far Gaussians; 0 = no far field
   int stride_px = 8;      ///< one far Gaussian per stride x stride pixel block at most
+  /// Far Gaussians keep the mean, scale and rotation insertion gave them; training changes
+  /// only their colour and opacity. Their depth is a stand-in for "beyond the range", so
+  /// nothing can fit their geometry: moved and reshaped, they turned into dark streaks at the
+  /// corridor's end (people walking there, other views' parallax). BENCHMARKS.md, the
+  /// twenty-fifth session.
+  bool fixed_geometry = true;
 };
 
 /// mapping::SeeThroughSettings (mapping/see_through.hpp says the rule): Gaussians that later

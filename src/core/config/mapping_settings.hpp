@@ -66,6 +66,10 @@ struct MappingSettings {
              "camera.max_depth_m); 0 = no far field"});
     v.field("far_field_stride_px", far_field.stride_px,
             {"px", 1, 256, "one far Gaussian per stride x stride pixel block without depth"});
+    v.field("far_field_fixed_geometry", far_field.fixed_geometry,
+            "far Gaussians keep the mean, scale and rotation insertion gave them (their depth "
+            "stands for 'beyond the range'); training changes only their colour and opacity; "
+            "off: all of their parameters are trained");
     v.field("see_through_enabled", see_through.enabled,
             "prune Gaussians that later keyframes see through (a surface measured behind them: "
             "a person who stood there only for a moment)");
