@@ -15,14 +15,14 @@ namespace vigs::mapping {
 
 struct MapperMemory {
   std::size_t gaussians = 0;           ///< map size when measured
-  std::size_t map_params_bytes = 0;    ///< GaussianMap parameter arrays and their anchors
+  std::size_t map_params_bytes = 0;    ///< GaussianMap parameter arrays, anchors and far flags
   std::size_t adam_moments_bytes = 0;  ///< Adam first and second moments
   /// The optimiser's rasterizer caches: projection, tile lists, per-pair gradients
   /// (not the per-thread tile scratch), and the optimiser's prune mask.
   std::size_t optimizer_buffers_bytes = 0;
   /// GaussianInserter's voxel set: its hash table's slots (a key and a control byte each).
   std::size_t occupancy_bytes = 0;
-  std::size_t see_through_bytes = 0;   ///< vote counts, far flags and the removal keep mask
+  std::size_t see_through_bytes = 0;   ///< vote counts and the removal keep mask
   std::size_t keyframes_bytes = 0;     ///< held keyframes: images, depth, points not yet inserted
   std::size_t snapshot_bytes = 0;      ///< the last published snapshot (0 when none)
   std::size_t view_buffers_bytes = 0;  ///< per-pixel: renders, loss gradients, gate mask

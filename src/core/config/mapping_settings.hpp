@@ -129,7 +129,9 @@ struct MappingSettings {
     v.field("window_keyframes", window_keyframes,
             {"keyframes", 1, 1000, "recent keyframes trained in turn"});
     v.field("random_keyframes", random_keyframes,
-            {"keyframes", 0, 1000, "older keyframes drawn at random per round"});
+            {"keyframes", 0, 1000,
+             "older keyframes drawn at random per round, trained first in the round (a new "
+             "keyframe clears the round)"});
     v.field("follow_loop_closures", follow_loop_closures,
             "with tracking.loop_closure: keyframes go into the map at their loop-corrected "
             "poses, and each closure moves every keyframe's Gaussians and training view with "
