@@ -15,6 +15,7 @@
 #include "io/image_io.hpp"
 #include "io/json_text.hpp"
 #include "io/output_guard.hpp"
+#include "mapping/compact_kept.hpp"
 #include "mapping/far_field.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/insertion_gate.hpp"
@@ -130,13 +131,7 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
         std::size_t removed = 0;
         last = opt.iterate(map, frames[order[slot]].view, &removed,
                            cfg.mapping.far_field.fixed_geometry ? far_flag.data() : nullptr);
-        if (removed > 0) {  // the flags follow the map
-          const std::vector<char>& keep = opt.last_prune_keep();
-          std::size_t out = 0;
-          for (std::size_t g = 0; g < far_flag.size(); ++g)
-            if (keep[g]) far_flag[out++] = far_flag[g];
-          far_flag.resize(out);
-        }
+        if (removed > 0) mapping::compact_kept(far_flag, opt.last_prune_keep());  // follow the map
         pruned += removed;
         if (!quiet && (it + 1) % 100 == 0)
           std::cerr << "vigs map: iteration " << it + 1 << "/" << iterations << " loss "

@@ -7,6 +7,7 @@
 
 #include "core/capacity_bytes.hpp"
 #include "core/grow_by_eighths.hpp"
+#include "mapping/compact_kept.hpp"
 
 namespace vigs::mapping {
 
@@ -64,24 +65,15 @@ struct GaussianParams {
     opacity_logit[i] = logit;
   }
 
-  /// Keeps the Gaussians whose `keep[i]` is true, in order.
+  /// Keeps the Gaussians whose `keep[i]` is true, in order; returns the number removed.
   template <class Mask>
   std::size_t compact(const Mask& keep) {
-    std::size_t out = 0;
     const std::size_t n = size();
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!keep[i]) continue;
-      for (int k = 0; k < 3; ++k) {
-        mean_w[3 * out + k] = mean_w[3 * i + k];
-        log_scale[3 * out + k] = log_scale[3 * i + k];
-        color_rgb[3 * out + k] = color_rgb[3 * i + k];
-      }
-      for (int k = 0; k < 4; ++k) quat_wxyz[4 * out + k] = quat_wxyz[4 * i + k];
-      opacity_logit[out] = opacity_logit[i];
-      ++out;
-    }
-    resize(out);
-    return n - out;
+    compact_kept(mean_w, keep, 3);
+    compact_kept(log_scale, keep, 3);
+    compact_kept(quat_wxyz, keep, 4);
+    compact_kept(color_rgb, keep, 3);
+    return n - compact_kept(opacity_logit, keep);
   }
 
   /// Number of scalar parameters per Gaussian (3 + 3 + 4 + 1 + 3).

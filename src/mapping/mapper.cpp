@@ -4,6 +4,7 @@
 
 #include "core/capacity_bytes.hpp"
 #include "core/grow_by_eighths.hpp"
+#include "mapping/compact_kept.hpp"
 #include "rt/clock.hpp"
 #include "rt/queue_policy.hpp"
 
@@ -31,7 +32,7 @@ std::size_t Mapper::next_view() {
   }
   if (round_.empty()) {
     // Trained back to front: random older keyframes first, then the window newest first. A
-    // keyframe arrives every five or six iterations in real time and clears the round, so what
+    // keyframe arrives every four to seven iterations in real time and clears the round, so what
     // a round holds last is seldom reached: with the older keyframes last, no keyframe was
     // trained again once it had left the window. The newest keyframe, just trained on its
     // arrival, is left out of the round that follows (it was trained twice in a row).
@@ -154,16 +155,9 @@ namespace vigs::mapping {
 void Mapper::after_prune() {
   inserter_.rebuild(map_);
   const std::vector<char>& keep = optimizer_.last_prune_keep();
-  std::size_t out = 0;
-  for (std::size_t i = 0; i < anchor_.size(); ++i) {
-    if (!keep[i]) continue;
-    anchor_[out] = anchor_[i];
-    far_flag_[out] = far_flag_[i];
-    ++out;
-  }
-  anchor_.resize(out);
-  far_flag_.resize(out);
-  if (s_.see_through.enabled) seen_through_.compact(optimizer_.last_prune_keep());
+  compact_kept(anchor_, keep);
+  compact_kept(far_flag_, keep);
+  if (s_.see_through.enabled) seen_through_.compact(keep);
 }
 
 void Mapper::prune_seen_through(const MapperKeyframe& kf) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "mapping/compact_kept.hpp"
+
 namespace vigs::mapping {
 
 namespace {
@@ -98,16 +100,12 @@ std::size_t SeeThrough::vote_range(const GaussianMap& map, const RenderCamera& c
 }
 
 void SeeThrough::compact(const std::vector<char>& keep) {
-  const std::size_t n = std::min(keep.size(), through_.size());
-  std::size_t out = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!keep[i]) continue;
-    through_[out] = through_[i];
-    seen_[out] = seen_[i];
-    ++out;
+  if (through_.size() > keep.size()) {  // counts past the mask belong to no kept Gaussian
+    through_.resize(keep.size());
+    seen_.resize(keep.size());
   }
-  through_.resize(out);
-  seen_.resize(out);
+  compact_kept(through_, keep);
+  compact_kept(seen_, keep);
 }
 
 }  // namespace vigs::mapping

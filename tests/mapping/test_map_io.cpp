@@ -3,12 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "../common/temp_files.hpp"
+#include "mapping/compact_kept.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/ply_io.hpp"
@@ -168,6 +171,17 @@ TEST(MappingPrune, RemovesTransparentAndOversizedGaussians) {
   EXPECT_EQ(g.compact(keep), 2u);
   EXPECT_EQ(g.size(), 8u);
   EXPECT_EQ(g.mean_w[3 * 4], kept_mean);  // order preserved
+}
+
+TEST(MappingPrune, CompactKeptMovesWholeRecordsInOrder) {
+  // Records of three: 0..2 | 10..12 | 20..22 | 30..32; the second and the last are dropped.
+  std::vector<int> v = {0, 1, 2, 10, 11, 12, 20, 21, 22, 30, 31, 32};
+  const std::vector<char> keep = {1, 0, 1, 0};
+  EXPECT_EQ(compact_kept(v, keep, 3), 2u);
+  EXPECT_EQ(v, (std::vector<int>{0, 1, 2, 20, 21, 22}));
+  std::vector<std::uint8_t> flags = {7, 8, 9};
+  EXPECT_EQ(compact_kept(flags, std::vector<char>{0, 0, 1}), 1u);
+  EXPECT_EQ(flags, (std::vector<std::uint8_t>{9}));
 }
 
 TEST(MappingInsertion, TrackerKeyframesInsertFromTheRawCovariance) {
