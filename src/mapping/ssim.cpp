@@ -6,21 +6,36 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "mapping/simd_axpy.hpp"
+#include "mapping/simd_weighted_rows.hpp"
+#include "mapping/ssim_map_row.hpp"
 
 namespace vigs::mapping {
 
 namespace {
-/// o[i] += w * s[i]: every filter pass below is made of these (AVX2 for floats where available).
+/// The longest window (gaussian11): the tap pointers of one output row live on the stack.
+constexpr int kMaxTaps = 11;
+
+/// o[i] = sum_k w[k] * rows[k][i]: every filter pass below is made of these (AVX2 for floats
+/// where available).
 template <class T>
-inline void add_scaled(T* o, const T* s, T w, int n, bool simd) {
+inline void filter_row(T* o, const T* const* rows, const T* w, int n_rows, int n, bool simd) {
   if constexpr (std::is_same_v<T, float>) {
     if (simd) {
-      axpy(o, s, w, n);
+      weighted_rows(o, rows, w, n_rows, n);
       return;
     }
   }
-  axpy_plain(o, s, w, n);
+  weighted_rows_plain(o, rows, w, n_rows, n);
+}
+
+/// One row of the SSIM map and its derivatives (AVX2 for floats where available).
+template <class T>
+inline double map_row(const T* const* m, const T* on_mask, const SsimRowTerms<T>& t, T* const* g,
+                      int n, bool simd) {
+  if constexpr (std::is_same_v<T, float>) {
+    if (simd) return ssim_map_row(m, on_mask, t, g, n);
+  }
+  return ssim_map_row_plain(m, on_mask, t, g, n);
 }
 }  // namespace
 
@@ -47,6 +62,7 @@ std::vector<double> ssim_window_1d(SsimWindow w) {
 template <class T>
 Ssim<T>::Ssim(SsimOptions options, rt::WorkerTeam* pool) : opt_(options), pool_(pool) {
   const auto w = ssim_window_1d(options.window);
+  if (static_cast<int>(w.size()) > kMaxTaps) throw std::logic_error("SSIM: window too long");
   win_.assign(w.begin(), w.end());
 }
 
@@ -89,11 +105,14 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
     for (std::size_t i = 0; i < np * static_cast<std::size_t>(channels); ++i) grad_x[i] = 0;
   if (n_valid == 0) return T(1);
   const T inv_n = T(1) / (T(n_valid) * T(channels));
+  const SsimRowTerms<T> terms{C1, C2, cn, inv_n};
   const int nt = pool_ ? pool_->size() : 1;
   tmp_.resize(5 * nh);
   maps_.resize(5 * nv);
   if (grad_x) g_.resize(3 * nv);
   rows_.resize(static_cast<std::size_t>(nt) * 5 * w);
+  const std::size_t pad_len = w + static_cast<std::size_t>(K);  // wv + 2 (K - 1) <= w + K
+  pad_.resize(static_cast<std::size_t>(nt) * pad_len);
   const auto n_blocks = static_cast<std::size_t>(row_blocks(hv));
   partial_.assign(n_blocks * static_cast<std::size_t>(channels), 0.0);
   const T* win = win_.data();
@@ -119,8 +138,9 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
           T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
                  static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
           const T* src = rowbuf + static_cast<std::size_t>(m) * w;
-          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
-          for (int k = 0; k < K; ++k) add_scaled(o, src + k, win[k], wv, simd);
+          const T* taps[kMaxTaps];
+          for (int k = 0; k < K; ++k) taps[k] = src + k;
+          filter_row(o, taps, win, K, wv, simd);
         }
       }
     });
@@ -132,30 +152,20 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
           T* o = maps_.data() + static_cast<std::size_t>(m) * nv +
                  static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
           const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh;
-          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
+          const T* taps[kMaxTaps];
           for (int k = 0; k < K; ++k)
-            add_scaled(o, src + static_cast<std::size_t>(r + k) * static_cast<std::size_t>(wv),
-                       win[k], wv, simd);
+            taps[k] = src + static_cast<std::size_t>(r + k) * static_cast<std::size_t>(wv);
+          filter_row(o, taps, win, K, wv, simd);
         }
-        for (int xx = 0; xx < wv; ++xx) {
-          const std::size_t p = static_cast<std::size_t>(r) * static_cast<std::size_t>(wv) +
-                                static_cast<std::size_t>(xx);
-          const bool on = centre_on(r, xx);
-          const T ux = maps_[p], uy = maps_[nv + p];
-          const T vx = cn * (maps_[2 * nv + p] - ux * ux), vy = cn * (maps_[3 * nv + p] - uy * uy);
-          const T vxy = cn * (maps_[4 * nv + p] - ux * uy);
-          const T N1 = T(2) * ux * uy + C1, N2 = T(2) * vxy + C2;
-          const T D1 = ux * ux + uy * uy + C1, D2 = vx + vy + C2;
-          const T S = (N1 * N2) / (D1 * D2);
-          if (on) sum += static_cast<double>(S);
-          if (grad_x) {
-            const T wgt = on ? inv_n : T(0);
-            g_[p] = wgt * S *
-                    (T(2) * uy / N1 - T(2) * cn * uy / N2 - T(2) * ux / D1 + T(2) * cn * ux / D2);
-            g_[nv + p] = wgt * (-S * cn / D2);
-            g_[2 * nv + p] = wgt * (S * T(2) * cn / N2);
-          }
-        }
+        const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+        const T* const moments[5] = {maps_.data() + row, maps_.data() + nv + row,
+                                     maps_.data() + 2 * nv + row, maps_.data() + 3 * nv + row,
+                                     maps_.data() + 4 * nv + row};
+        T* const grads[3] = {g_.data() + row, g_.data() + nv + row, g_.data() + 2 * nv + row};
+        const T* on_mask =
+            mask ? mask + static_cast<std::size_t>(r + half) * w + static_cast<std::size_t>(half)
+                 : nullptr;
+        sum += map_row(moments, on_mask, terms, grad_x ? grads : nullptr, wv, simd);
       }
       partial_[static_cast<std::size_t>(block) * cs + static_cast<std::size_t>(c)] = sum;
     });
@@ -167,23 +177,28 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
         for (int m = 0; m < 3; ++m) {
           T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
                  static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
-          for (int xx = 0; xx < wv; ++xx) o[xx] = 0;
-          for (int k = 0; k < K; ++k) {
-            const int src_row = r - k;
-            if (src_row < 0 || src_row >= hv) continue;
-            add_scaled(o,
-                       g_.data() + static_cast<std::size_t>(m) * nv +
-                           static_cast<std::size_t>(src_row) * static_cast<std::size_t>(wv),
-                       win[k], wv, simd);
-          }
+          // the taps k whose source row r - k is a valid window row, in order k
+          const int k0 = std::max(0, r - hv + 1), k1 = std::min(K - 1, r);
+          const T* taps[kMaxTaps];
+          for (int k = k0; k <= k1; ++k)
+            taps[k - k0] = g_.data() + static_cast<std::size_t>(m) * nv +
+                           static_cast<std::size_t>(r - k) * static_cast<std::size_t>(wv);
+          filter_row(o, taps, win + k0, k1 - k0 + 1, wv, simd);
         }
+        // horizontal transpose: back[q] = sum_k win[k] src[q - k] over 0 <= q - k < wv, read
+        // from a copy of the row with K - 1 zeros on either side
         T* back = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
+        T* pad = pad_.data() + static_cast<std::size_t>(t) * pad_len;
+        const auto edge = static_cast<std::size_t>(K - 1);
+        for (std::size_t q = 0; q < edge; ++q)
+          pad[q] = pad[edge + static_cast<std::size_t>(wv) + q] = 0;
         for (int m = 0; m < 3; ++m) {
           const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh +
                          static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
-          T* o = back + static_cast<std::size_t>(m) * w;
-          for (std::size_t q = 0; q < w; ++q) o[q] = 0;
-          for (int k = 0; k < K; ++k) add_scaled(o + k, src, win[k], wv, simd);
+          std::copy(src, src + wv, pad + edge);
+          const T* taps[kMaxTaps];
+          for (int k = 0; k < K; ++k) taps[k] = pad + edge - static_cast<std::size_t>(k);
+          filter_row(back + static_cast<std::size_t>(m) * w, taps, win, K, width, simd);
         }
         for (std::size_t q = 0; q < w; ++q) {
           const std::size_t i =

@@ -21,7 +21,7 @@ struct SsimOptions {
   SsimWindow window = SsimWindow::kGaussian11;
   bool sample_covariance = false;  ///< N/(N-1) correction (scikit-image's default)
   double data_range = 1.0;         ///< L: 1 for [0, 1] images, 255 for 8-bit values
-  bool use_simd = true;            ///< floats: AVX2 filters where the CPU has them (simd_axpy.hpp)
+  bool use_simd = true;  ///< floats: AVX2 filters where the CPU has them (simd_weighted_rows.hpp)
 };
 
 /// The normalised 1D window (11 taps, sigma 1.5; or 7 uniform taps).
@@ -51,7 +51,7 @@ class Ssim {
   SsimOptions opt_;
   rt::WorkerTeam* pool_;
   std::vector<T> win_;
-  std::vector<T> tmp_, maps_, g_, rows_;
+  std::vector<T> tmp_, maps_, g_, rows_, pad_;
   std::vector<double> partial_;  ///< per row block and channel, summed in block order
 };
 
