@@ -11,6 +11,7 @@
 
 #include "core/capacity_bytes.hpp"
 #include "core/grow_by_eighths.hpp"
+#include "mapping/depth_key_sort.hpp"
 #include "mapping/projection.hpp"
 #include "mapping/projection_avx2.hpp"
 #include "mapping/raster_simd.hpp"
@@ -324,15 +325,17 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
       // Near to far, ties by id, sorted as 64-bit keys (depth's bits above the id): a visible
       // Gaussian's depth is finite and beyond the near plane, and positive floats order as their
       // bit patterns, so this is the comparator's order below without a depth load per compare.
+      // The list is in id order (the fill above), so a stable sort by depth is this order.
+      const auto n_keys = static_cast<std::size_t>(e - b);
       std::vector<std::uint64_t>& keys = sort_keys_[static_cast<std::size_t>(t)];
-      keys.resize(static_cast<std::size_t>(e - b));
-      for (std::size_t k = 0; k < keys.size(); ++k) {
+      if (keys.size() < 2 * n_keys) keys.resize(2 * n_keys);  // the keys, then the scratch
+      for (std::size_t k = 0; k < n_keys; ++k) {
         const int id = b[k];
         keys[k] = (std::uint64_t{std::bit_cast<std::uint32_t>(proj_.depth[id])} << 32) |
                   static_cast<std::uint32_t>(id);
       }
-      std::sort(keys.begin(), keys.end());
-      for (std::size_t k = 0; k < keys.size(); ++k) b[k] = static_cast<int>(keys[k] & 0xffffffffu);
+      sort_depth_keys(keys.data(), keys.data() + n_keys, n_keys);
+      for (std::size_t k = 0; k < n_keys; ++k) b[k] = static_cast<int>(keys[k] & 0xffffffffu);
     } else {
       std::sort(b, e, [&](int a, int c) {
         const T da = proj_.depth[a], dc = proj_.depth[c];

@@ -33,7 +33,8 @@ double ssim_map_row_plain(const T* const* m, const T* on_mask, const SsimRowTerm
     if (on) sum += static_cast<double>(S);
     if (g) {
       const T wgt = on ? t.inv_n : T(0);
-      g[0][i] = wgt * S * (two * uy / N1 - two * t.cn * uy / N2 - two * ux / D1 + two * t.cn * ux / D2);
+      g[0][i] =
+          wgt * S * (two * uy / N1 - two * t.cn * uy / N2 - two * ux / D1 + two * t.cn * ux / D2);
       g[1][i] = wgt * (-S * t.cn / D2);
       g[2][i] = wgt * (S * two * t.cn / N2);
     }

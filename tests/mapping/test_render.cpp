@@ -3,10 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include "mapping/depth_key_sort.hpp"
 #include "mapping/raster_simd.hpp"
 #include "mapping/rasterizer.hpp"
 #include "test_scene.hpp"
@@ -148,6 +153,26 @@ TEST(MappingRender, GaussiansAtOneDepthBlendInIdOrder) {
     const RenderResult<float> r = render_with(tie, cam, simd);
     EXPECT_NEAR(r.color[3 * p + 1], 0.5, 1e-6) << "simd " << simd;  // id 0 in front
     EXPECT_NEAR(r.color[3 * p], 0.25, 1e-6);
+  }
+}
+
+// The tile sort against std::sort on whole keys, for lists in id order with many equal depths,
+// on both sides of the insertion-sort bound and with bytes that every key shares.
+TEST(MappingRender, DepthKeySortIsStdSortOfIdOrderedKeys) {
+  std::mt19937 rng(7);
+  for (const std::size_t n : {0u, 1u, 2u, 47u, 48u, 49u, 300u, 5000u}) {
+    for (const int depths : {3, 1000}) {
+      std::uniform_int_distribution<int> pick(0, depths - 1);
+      std::vector<std::uint64_t> keys(n), scratch(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const float depth_m = 0.5f + 0.01f * static_cast<float>(pick(rng));
+        keys[i] = (std::uint64_t{std::bit_cast<std::uint32_t>(depth_m)} << 32) | i;
+      }
+      std::vector<std::uint64_t> expected = keys;
+      std::sort(expected.begin(), expected.end());
+      sort_depth_keys(keys.data(), scratch.data(), n);
+      ASSERT_EQ(keys, expected) << n << " keys, " << depths << " depths";
+    }
   }
 }
 
