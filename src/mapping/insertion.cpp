@@ -21,29 +21,19 @@ void covariance_to_rotation_scale(const Eigen::Matrix3d& cov, Eigen::Quaterniond
   q.normalize();
 }
 
-std::uint64_t GaussianInserter::key(const Eigen::Vector3d& p_w) const {
-  auto cell = [&](double v) {
-    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / s_.voxel_m)) +
-                                      (1 << 20)) &
-           0x1FFFFFu;
-  };
-  return cell(p_w.x()) | (cell(p_w.y()) << 21) | (cell(p_w.z()) << 42);
-}
-
-std::uint64_t GaussianInserter::key_of(const GaussianMap& map, std::size_t i) const {
-  return key(Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2]));
-}
-
 void GaussianInserter::rebuild(const GaussianMap& map) {
+  const std::size_t bricks = occupied_.bricks();  // about as many as before the prune
   occupied_.clear();
-  occupied_.reserve(map.size());
-  for (std::size_t i = 0; i < map.size(); ++i) occupied_.insert(key_of(map, i));
+  occupied_.reserve(bricks);
+  const float* m = map.mean_w.data();
+  for (std::size_t i = 0; i < map.size(); ++i)
+    occupied_.insert(m[3 * i], m[3 * i + 1], m[3 * i + 2]);
 }
 
 void GaussianInserter::forget(const GaussianMap& map, const std::vector<char>& keep) {
   const std::size_t n = std::min(map.size(), keep.size());
   for (std::size_t i = 0; i < n; ++i) {
-    if (!keep[i]) occupied_.erase(key_of(map, i));
+    if (!keep[i]) occupied_.erase(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2]);
   }
 }
 
@@ -70,7 +60,7 @@ std::size_t GaussianInserter::insert(GaussianMap& map, const KeyframeGaussians& 
     const Eigen::Vector3d p_c = kf.points_c[i].cast<double>();
     if (!(p_c.z() > 0) || !p_c.allFinite()) continue;
     const Eigen::Vector3d p_w = kf.T_w_c * p_c;
-    if (!occupied_.insert(key(p_w)).second) continue;
+    if (!occupied_.insert(p_w.x(), p_w.y(), p_w.z())) continue;
     Eigen::Quaterniond q_c;
     Eigen::Vector3d cov_sd, sd;
     covariance_to_rotation_scale(kf.covariances_c[i].cast<double>(), q_c, cov_sd);

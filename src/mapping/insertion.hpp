@@ -14,15 +14,14 @@
 // - colour from the pixel.
 // Without a sample angle (0) the GS-ICP SLAM rule is kept: standard deviations divided by
 // max(1, 2 z^1.5) and the flat opacity. A voxel-occupancy set skips points whose voxel already
-// holds a Gaussian, so that revisits do not grow the map without bound.
+// holds a Gaussian (voxel_occupancy.hpp), so that revisits do not grow the map without bound.
 #include <cstdint>
 #include <vector>
-
-#include <absl/container/flat_hash_set.h>
 
 #include "core/config/mapping_components.hpp"
 #include "mapping/gaussian_map.hpp"
 #include "mapping/keyframe_gaussians.hpp"
+#include "mapping/voxel_occupancy.hpp"
 
 namespace vigs::mapping {
 
@@ -30,7 +29,7 @@ using config::InsertSettings;  // defaults: core/config/mapping_components.hpp
 
 class GaussianInserter {
  public:
-  explicit GaussianInserter(InsertSettings s = {}) : s_(s) {}
+  explicit GaussianInserter(InsertSettings s = {}) : s_(s), occupied_(s.voxel_m) {}
 
   /// Appends the keyframe's new Gaussians to `map`; returns how many were added. With `keep`
   /// (one per point), points whose entry is 0 are skipped.
@@ -46,29 +45,14 @@ class GaussianInserter {
   /// one more Gaussian may be added there.
   void forget(const GaussianMap& map, const std::vector<char>& keep);
 
-  [[nodiscard]] std::size_t occupied_voxels() const { return occupied_.size(); }
-  /// Bytes held by the occupancy set: one key and one control byte per slot of its table, and
-  /// a group's worth of control bytes more.
-  [[nodiscard]] std::size_t occupancy_bytes() const {
-    const std::size_t slots = occupied_.capacity();
-    return slots == 0 ? 0 : slots * (sizeof(std::uint64_t) + 1) + kControlPadding;
-  }
+  [[nodiscard]] std::size_t occupied_voxels() const { return occupied_.voxels(); }
+  /// Bytes held by the occupancy (voxel_occupancy.hpp).
+  [[nodiscard]] std::size_t occupancy_bytes() const { return occupied_.bytes(); }
   [[nodiscard]] const InsertSettings& settings() const { return s_; }
 
  private:
-  [[nodiscard]] std::uint64_t key(const Eigen::Vector3d& p_w) const;
-  [[nodiscard]] std::uint64_t key_of(const GaussianMap& map, std::size_t i) const;  ///< i's mean
-
   InsertSettings s_;
-  /// Occupied voxels. Abseil's open-addressing set (libabsl-dev) rather than
-  /// std::unordered_set, whose node per key cost a malloc and free per voxel at every rebuild
-  /// (two million of each after a prune, on the mapper's serial path: 1.9 % of a real-time run's
-  /// samples with its allocator's share beside it) and about 40 bytes per voxel with malloc's
-  /// overhead, against about 10-20 here.
-  absl::flat_hash_set<std::uint64_t> occupied_;
-  /// Control bytes beyond one per slot (absl raw_hash_set.h, AllocSize): the sentinel and the
-  /// 15 cloned bytes of a 16-wide SSE2 group (7 of an 8-wide one elsewhere), before alignment.
-  static constexpr std::size_t kControlPadding = 1 + 15;
+  VoxelOccupancy occupied_;  ///< voxels that hold a Gaussian
 };
 
 /// Orientation (w x y z) and standard deviations of a covariance, largest axis first; the

@@ -20,7 +20,8 @@ struct MapperMemory {
   /// The optimiser's rasterizer caches: projection, tile lists, per-pair gradients
   /// (not the per-thread tile scratch), and the optimiser's prune mask.
   std::size_t optimizer_buffers_bytes = 0;
-  /// GaussianInserter's voxel set: its hash table's slots (a key and a control byte each).
+  /// GaussianInserter's voxel occupancy: its hash table's slots (a brick key, a mask and a
+  /// control byte each; voxel_occupancy.hpp).
   std::size_t occupancy_bytes = 0;
   std::size_t see_through_bytes = 0;   ///< vote counts and the removal keep mask
   std::size_t keyframes_bytes = 0;     ///< held keyframes: images, depth, points not yet inserted

@@ -470,7 +470,7 @@ TEST(MappingMapper, MemoryCountsEveryOwnerThatGrowsWithTheMap) {
     EXPECT_LT(m.adam_moments_bytes, 2 * 14 * sizeof(float) * n);  // (capacity slack: an eighth)
     // projection (2 + 3 + 1 + 1 floats, a radius) and a visible slot per Gaussian
     EXPECT_GE(m.optimizer_buffers_bytes, 9 * sizeof(float) * n);
-    EXPECT_GT(m.occupancy_bytes, 0u);  // a node per occupied voxel (grows: below)
+    EXPECT_GT(m.occupancy_bytes, 0u);  // bricks of occupied voxels (grows: below)
     // counts follow the map at each keyframe's vote (before its insertion): bound below
     EXPECT_GT(m.see_through_bytes, 0u);
     EXPECT_GE(m.keyframes_bytes, k * pixels * 4 * sizeof(float));  // rgb and depth
