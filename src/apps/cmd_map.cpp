@@ -137,7 +137,7 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
           std::cerr << "vigs map: iteration " << it + 1 << "/" << iterations << " loss "
                     << last.total << " gaussians " << map.size() << "\n";
       }
-      mapping::write_gaussian_ply(out_path, map);
+      const std::size_t not_finite = mapping::write_gaussian_ply(out_path, map);
       const double secs =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       io::Json j;
@@ -145,7 +145,9 @@ void add_map_command(CLI::App& app, ExitCode& exit_code) {
       j["inserted"] = inserted;
       j["far_field"] = far;
       j["pruned"] = pruned;
-      j["gaussians"] = map.size();
+      j["gaussians"] = map.size() - not_finite;
+      j["not_finite"] = not_finite;  // left out of the file (write_gaussian_ply)
+      j["nonfinite_gradients"] = opt.nonfinite_gradients();
       j["iterations"] = iterations;
       j["last_loss"] = io::rounded(last.total, 10);
       j["last_ssim"] = io::rounded(last.ssim, 10);

@@ -91,6 +91,7 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
     s["map_gated_points"] = r.map_gated_points;
     s["map_seen_through_pruned"] = r.map_seen_through_pruned;
     s["map_refined_closer"] = r.map_refined_closer;
+    s["map_nonfinite_gradients"] = r.map_nonfinite_gradients;
     s["map_moved_by_loops"] = r.map_moved_by_loops;
   }
   return s;

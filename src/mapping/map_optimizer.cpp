@@ -14,7 +14,11 @@ std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s
     const float* ls = &map.log_scale[3 * i];
     const bool too_big = std::max({ls[0], ls[1], ls[2]}) > log_max;
     const bool too_thin = map.opacity_logit[i] < logit_min;
-    const bool bad = !std::isfinite(map.opacity_logit[i]) || !std::isfinite(map.mean_w[3 * i]);
+    bool bad = !std::isfinite(map.opacity_logit[i]);
+    for (int k = 0; k < 3; ++k)
+      bad = bad || !std::isfinite(map.mean_w[3 * i + k]) || !std::isfinite(ls[k]) ||
+            !std::isfinite(map.color_rgb[3 * i + k]);
+    for (int k = 0; k < 4; ++k) bad = bad || !std::isfinite(map.quat_wxyz[4 * i + k]);
     keep[i] = (too_big || too_thin || bad) ? 0 : 1;
   }
   return keep;
@@ -42,6 +46,12 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
   // fused: each Gaussian's gradient goes straight into its Adam update, no gradient copy
   const auto grad_of = [&](std::size_t i, float* g) {
     raster_.gaussian_gradient(map, view.camera, i, g);
+    bool finite = true;
+    for (int k = 0; k < Rasterizer<float>::kParamGrads; ++k) finite = finite && std::isfinite(g[k]);
+    if (!finite) {
+      std::fill(g, g + Rasterizer<float>::kParamGrads, 0.0f);
+      nonfinite_.fetch_add(1, std::memory_order_relaxed);
+    }
     // mean (3), log-scale (3), quaternion (4) first: no gradient, so Adam's moments stay zero
     // and the step is zero
     if (fixed_geometry && fixed_geometry[i]) std::fill(g, g + 10, 0.0f);

@@ -5,6 +5,7 @@
 // of the map). Memory per Gaussian (parameters, Adam moments, rasterizer caches including the
 // per-pair gradients and tile lists) is reported by bytes_per_gaussian(); the mapper's
 // whole account, by owner, is Mapper::memory() (mapper_memory.hpp).
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -25,7 +26,8 @@ struct TrainingView {
 
 using config::PruneSettings;  // defaults: core/config/mapping_components.hpp
 
-/// Marks Gaussians to keep: opacity >= min_opacity and every standard deviation <= max_scale_m.
+/// Marks Gaussians to keep: opacity >= min_opacity, every standard deviation <= max_scale_m,
+/// and every parameter finite.
 std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s);
 
 class MapOptimizer {
@@ -33,6 +35,10 @@ class MapOptimizer {
   MapOptimizer(const config::MappingSettings& s, rt::WorkerTeam* pool);
 
   /// One iteration; prunes (and returns the count in `pruned`) every prune_every iterations.
+  /// A Gaussian whose gradient has a non-finite entry is not stepped this iteration (counted:
+  /// nonfinite_gradients()): one NaN colour renders NaN pixels, whose SSIM gradient reaches
+  /// every Gaussian within its window, and so on (a lockstep replay at lambda_depth 0.03 wrote
+  /// 255 NaN colours in one patch of the office, and its map.ply could not be read).
   /// With `fixed_geometry` (one per Gaussian of `map`), the Gaussians whose entry is non-zero
   /// keep their mean, scale and rotation: only their colour and opacity are trained (the far
   /// field's, mapping.far_field_fixed_geometry).
@@ -72,6 +78,10 @@ class MapOptimizer {
   }
   Adam& adam() { return adam_; }
   [[nodiscard]] long iterations() const { return iterations_; }
+  /// Gaussian gradients with a non-finite entry, set to zero instead (iterate()).
+  [[nodiscard]] std::uint64_t nonfinite_gradients() const {
+    return nonfinite_.load(std::memory_order_relaxed);
+  }
   [[nodiscard]] const RenderResult<float>& last_render() const { return render_; }
 
  private:
@@ -85,6 +95,7 @@ class MapOptimizer {
   MapBlocks blocks_;
   bool use_blocks_ = true;
   long iterations_ = 0;
+  std::atomic<std::uint64_t> nonfinite_{0};  ///< counted from the Adam step's threads
 };
 
 }  // namespace vigs::mapping

@@ -129,6 +129,10 @@ class Mapper {
   }
   /// Gaussians replaced because a keyframe saw them from closer (closer_refine.hpp).
   [[nodiscard]] std::uint64_t refined_closer() const noexcept { return refined_closer_.get(); }
+  /// Gaussian gradients with a non-finite entry, not applied (MapOptimizer::iterate).
+  [[nodiscard]] std::uint64_t nonfinite_gradients() const noexcept {
+    return optimizer_.nonfinite_gradients();
+  }
   /// Gaussians moved by move_keyframes() (a Gaussian moved by two closures counts twice).
   [[nodiscard]] std::uint64_t moved_by_corrections() const noexcept { return moved_.get(); }
 

@@ -30,18 +30,29 @@ bool little_endian_host() {
 
 }  // namespace
 
-void write_gaussian_ply(const std::string& path, const GaussianMap& map) {
+std::size_t write_gaussian_ply(const std::string& path, const GaussianMap& map) {
   if (!little_endian_host()) throw PlyError(path + ": big-endian hosts are not supported");
+  const auto finite = [&](std::size_t i) {
+    bool ok = std::isfinite(map.opacity_logit[i]);
+    for (std::size_t k = 0; k < 3; ++k)
+      ok = ok && std::isfinite(map.mean_w[3 * i + k]) && std::isfinite(map.log_scale[3 * i + k]) &&
+           std::isfinite(map.color_rgb[3 * i + k]);
+    for (std::size_t k = 0; k < 4; ++k) ok = ok && std::isfinite(map.quat_wxyz[4 * i + k]);
+    return ok;
+  };
+  std::size_t written = 0;
+  for (std::size_t i = 0; i < map.size(); ++i) written += finite(i) ? 1 : 0;
   try {
     io::write_file_atomically(path, [&](std::FILE* f) {
-      std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " +
-                           std::to_string(map.size()) + "\n";
+      std::string header =
+          "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(written) + "\n";
       for (const char* p : kProps) header += std::string("property float ") + p + "\n";
       header += "end_header\n";
       std::fwrite(header.data(), 1, header.size(), f);
       float row[kNumProps];
       const float c0 = static_cast<float>(kShC0);
       for (std::size_t i = 0; i < map.size(); ++i) {
+        if (!finite(i)) continue;
         for (int k = 0; k < 3; ++k) {
           row[k] = map.mean_w[3 * i + k];
           row[3 + k] = 0.0f;
@@ -56,6 +67,7 @@ void write_gaussian_ply(const std::string& path, const GaussianMap& map) {
   } catch (const std::runtime_error& e) {
     throw PlyError(e.what());
   }
+  return map.size() - written;
 }
 
 GaussianMap read_gaussian_ply(const std::string& path) {

@@ -17,8 +17,10 @@ class PlyError : public std::runtime_error {
 
 inline constexpr double kShC0 = 0.28209479177387814;
 
-/// Writes atomically (temporary file in the same folder, then rename).
-void write_gaussian_ply(const std::string& path, const GaussianMap& map);
+/// Writes atomically (temporary file in the same folder, then rename). A Gaussian with a
+/// non-finite parameter is left out (no NaN reaches a file, and the reader would refuse it);
+/// returns how many were left out.
+std::size_t write_gaussian_ply(const std::string& path, const GaussianMap& map);
 
 /// Reads a 3DGS PLY; properties may come in any order, extra float properties (f_rest_*) are
 /// ignored. Errors name the file and the header line or byte offset.

@@ -408,6 +408,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     r.map_s = rt::ns_to_s(mapper->busy_ns());
     r.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
     r.map_refined_closer = mapper->mapper().refined_closer();
+    r.map_nonfinite_gradients = mapper->mapper().nonfinite_gradients();
     r.map_moved_by_loops = mapper->mapper().moved_by_corrections();
     r.map_budget_ms = cfg.mapping.budget_ms;
     r.map_budget_overruns = mapper->mapper().budget_overruns();

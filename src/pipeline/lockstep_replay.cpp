@@ -270,6 +270,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     result.map_gated_points = mapper->mapper().gated_points();
     result.map_seen_through_pruned = mapper->mapper().seen_through_pruned();
     result.map_refined_closer = mapper->mapper().refined_closer();
+    result.map_nonfinite_gradients = mapper->mapper().nonfinite_gradients();
     result.map_moved_by_loops = mapper->mapper().moved_by_corrections();
   }
   result.wall_s = seconds_since(t0);

@@ -121,6 +121,7 @@ struct ReplayResult {
   std::uint64_t map_gated_points = 0;         ///< keyframe points the map already rendered
   std::uint64_t map_seen_through_pruned = 0;  ///< Gaussians later keyframes saw through
   std::uint64_t map_refined_closer = 0;       ///< Gaussians replaced when seen from closer
+  std::uint64_t map_nonfinite_gradients = 0;  ///< Gaussian gradients not applied: not finite
   std::uint64_t map_moved_by_loops = 0;  ///< Gaussians moved with their keyframe by loop closures
   /// tracking.loop_closure: `frames` hold the loop-corrected poses, `frames_odometry` the
   /// poses as the odometry tracked them (same order); `loop` what the loop closer did.

@@ -67,7 +67,14 @@ void write_results_files(const std::filesystem::path& root, const ReplayResult& 
   write_text(
       (root / pipeline::kKeyframesFile).string(),
       "# keyframe stamps (s) of a vigs replay\n" + pipeline::format_keyframe_times(keyframe_t_s));
-  if (r.map) mapping::write_gaussian_ply((root / pipeline::kMapFile).string(), *r.map);
+  if (r.map) {
+    // stats.json is formatted already: a Gaussian the writer had to leave out is said here
+    const std::size_t not_finite =
+        mapping::write_gaussian_ply((root / pipeline::kMapFile).string(), *r.map);
+    if (not_finite > 0)
+      std::fprintf(stderr, "vigs: %s: %zu Gaussians with a non-finite parameter left out\n",
+                   (root / pipeline::kMapFile).c_str(), not_finite);
+  }
   write_text((root / pipeline::kStatsFile).string(), stats_json);
 }
 

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 
@@ -51,9 +52,14 @@ TEST(HostilePly, NonFiniteValueIsAnErrorNamingVertexAndProperty) {
   mapping::GaussianMap map;
   map.resize(3);
   for (std::size_t i = 0; i < 3; ++i) map.quat_wxyz[4 * i] = 1.0f;
-  map.log_scale[3 * 2 + 1] = std::numeric_limits<float>::quiet_NaN();
-  // The writer writes what it is given; the reader must refuse it.
-  mapping::write_gaussian_ply(dir.file("nan.ply"), map);
+  // The writer leaves a non-finite Gaussian out, so the NaN goes into a written file's bytes:
+  // vertex 2's scale_1 (17 floats per vertex, scale_1 the twelfth).
+  ASSERT_EQ(mapping::write_gaussian_ply(dir.file("nan.ply"), map), 0u);
+  std::string bytes = read_text(dir.file("nan.ply"));
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(bytes.data() + bytes.find("end_header\n") + 11 + (2 * 17 + 11) * sizeof(float), &nan,
+              sizeof nan);
+  write_text(dir.file("nan.ply"), bytes);
   const std::string what = ply_message(dir.file("nan.ply"));
   EXPECT_NE(what.find("nan.ply: vertex 2 property 'scale_1' is not finite"), std::string::npos)
       << what;

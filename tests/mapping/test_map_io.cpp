@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,28 @@ TEST(MappingPly, RoundTripIsExact) {
                         "property float opacity\nproperty float scale_0\n"),
             std::string::npos);
   EXPECT_NE(header.find("property float rot_3\n"), std::string::npos);
+  std::remove(path.c_str());
+}
+
+// No NaN reaches a file: a Gaussian with any non-finite parameter is left out and counted,
+// and the rest are written as they are (the reader refuses a non-finite value).
+TEST(MappingPly, GaussiansWithNonFiniteParametersAreLeftOut) {
+  GaussianMap g = test::random_gaussians<float>(8, 5);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  g.color_rgb[3 * 1 + 2] = nan;
+  g.mean_w[3 * 3 + 1] = inf;
+  g.quat_wxyz[4 * 4 + 3] = nan;
+  g.log_scale[3 * 6] = -inf;
+  g.opacity_logit[7] = nan;
+  const std::string path = temp_path("nonfinite.ply");
+  EXPECT_EQ(write_gaussian_ply(path, g), 5u);
+  const GaussianMap r = read_gaussian_ply(path);
+  ASSERT_EQ(r.size(), 3u);
+  const std::size_t kept[] = {0, 2, 5};
+  for (std::size_t j = 0; j < 3; ++j)
+    for (std::size_t k = 0; k < 3; ++k)
+      EXPECT_EQ(r.mean_w[3 * j + k], g.mean_w[3 * kept[j] + k]) << j;
   std::remove(path.c_str());
 }
 
@@ -171,6 +194,15 @@ TEST(MappingPrune, RemovesTransparentAndOversizedGaussians) {
   EXPECT_EQ(g.compact(keep), 2u);
   EXPECT_EQ(g.size(), 8u);
   EXPECT_EQ(g.mean_w[3 * 4], kept_mean);  // order preserved
+}
+
+TEST(MappingPrune, RemovesGaussiansWithAnyNonFiniteParameter) {
+  GaussianMap g = test::random_gaussians<float>(6, 3);
+  g.color_rgb[3 * 1 + 1] = std::numeric_limits<float>::quiet_NaN();  // what a NaN render spread
+  g.quat_wxyz[4 * 2] = std::numeric_limits<float>::infinity();
+  g.log_scale[3 * 4 + 2] = std::numeric_limits<float>::quiet_NaN();
+  const auto keep = prune_keep_mask(g, PruneSettings{0.005, 0.5});
+  EXPECT_EQ(keep, (std::vector<char>{1, 0, 0, 1, 0, 1}));
 }
 
 TEST(MappingPrune, CompactKeptMovesWholeRecordsInOrder) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -141,6 +142,44 @@ TEST(MappingOptimize, FusedAdamStepEqualsGradientThenStep) {
 
 // bfloat16 storage of Adam's first moment (bfloat16.hpp): conversions, and the optimiser's path
 // against the same Adam in float on a quadratic.
+// One NaN colour renders NaN pixels; their SSIM gradient reaches every Gaussian within the
+// window, whose colours would turn NaN in turn (a live map had 255 in one patch). The optimiser
+// skips non-finite gradients (counted) and the next prune removes the NaN Gaussian.
+TEST(MappingOptimize, ANanColourNeitherSpreadsNorSurvivesThePrune) {
+  const int W = 96, H = 72;
+  const GaussianMap truth = test::random_gaussians<float>(120, 33, 0.4, 0.9, -2.6, -1.8);
+  const RenderCamera cam = test::small_camera(W, H, 80.0);
+  rt::WorkerTeam pool(2);
+  Rasterizer<float> ras(RasterSettings{}, &pool);
+  RenderResult<float> target;
+  ras.forward(truth, cam, target);
+  // the most opaque Gaussian in view goes bad
+  std::size_t bad = truth.size();
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    if (ras.projection().radius[i] > 0 &&
+        (bad == truth.size() || truth.opacity_logit[i] > truth.opacity_logit[bad]))
+      bad = i;
+  ASSERT_LT(bad, truth.size());
+  GaussianMap g = truth;
+  for (auto& c : g.color_rgb) c = std::clamp(c + 0.1f, 0.0f, 1.0f);  // something to learn
+  g.color_rgb[3 * bad + 1] = std::numeric_limits<float>::quiet_NaN();
+
+  config::MappingSettings s;
+  s.prune_every = 1000;  // no prune inside the loop
+  MapOptimizer opt(s, &pool);
+  const TrainingView view{cam, target.color.data(), target.depth.data()};
+  for (int it = 0; it < 10; ++it) opt.iterate(g, view);
+  EXPECT_GT(opt.nonfinite_gradients(), 0u);
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    if (i == bad) continue;
+    for (int k = 0; k < 3; ++k) ASSERT_TRUE(std::isfinite(g.color_rgb[3 * i + k])) << i;
+    for (int k = 0; k < 3; ++k) ASSERT_TRUE(std::isfinite(g.mean_w[3 * i + k])) << i;
+    ASSERT_TRUE(std::isfinite(g.opacity_logit[i])) << i;
+  }
+  EXPECT_EQ(opt.prune(g), 1u);
+  EXPECT_EQ(g.size(), truth.size() - 1);
+}
+
 TEST(MappingBfloat16, RoundsToNearestEvenAndKeepsTheFloatRange) {
   for (const float f : {0.0f, 1.0f, -2.5f, 0.15625f, 1e-30f, 3e38f})
     EXPECT_EQ(from_bfloat16(to_bfloat16(from_bfloat16(to_bfloat16(f)))),
