@@ -131,9 +131,10 @@ class Rasterizer {
   std::vector<int> slot_pairs_;   ///< visible + 1: offsets of each slot's pairs in pair_grad_
   /// backward: per Gaussian-tile pair, grouped by visible slot, row-major tile order within one
   std::vector<TileGrad<T>> pair_grad_;
-  std::vector<std::vector<float>> simd_scratch_;       ///< per thread, AVX2 backward sums
-  std::vector<std::vector<int>> run_scratch_;          ///< per thread, AVX2 per-run Gaussian lists
-  std::vector<std::vector<std::uint64_t>> sort_keys_;  ///< per thread, one tile's depth keys
+  std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
+  std::vector<std::vector<int>> run_scratch_;     ///< per thread, AVX2 per-run Gaussian lists
+  /// per thread: one tile's depth keys, then as many again of the radix sort's scratch
+  std::vector<std::vector<std::uint64_t>> sort_keys_;
   bool used_simd_ = false;
   std::size_t culled_blocks_ = 0;
   /// Ranges of Gaussians the last projection kept (a block, or a chunk without blocks) that hold

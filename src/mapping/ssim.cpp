@@ -173,6 +173,12 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
     // transposed filters as gathers: vertical into tmp (3 x h x wv), then horizontal per row;
     // dL/dx_q = (W^T g_mu)_q + 2 x_q (W^T g_xx)_q + y_q (W^T g_xy)_q
     for_rows(height, [&](int t, int, int r0, int r1) {
+      // the horizontal transpose below reads each row from a copy with K - 1 zeros on either
+      // side; the copies overwrite only the middle, so the zeros are written once per block
+      T* pad = pad_.data() + static_cast<std::size_t>(t) * pad_len;
+      const auto edge = static_cast<std::size_t>(K - 1);
+      for (std::size_t q = 0; q < edge; ++q)
+        pad[q] = pad[edge + static_cast<std::size_t>(wv) + q] = 0;
       for (int r = r0; r < r1; ++r) {
         for (int m = 0; m < 3; ++m) {
           T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
@@ -185,13 +191,8 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
                            static_cast<std::size_t>(r - k) * static_cast<std::size_t>(wv);
           filter_row(o, taps, win + k0, k1 - k0 + 1, wv, simd);
         }
-        // horizontal transpose: back[q] = sum_k win[k] src[q - k] over 0 <= q - k < wv, read
-        // from a copy of the row with K - 1 zeros on either side
+        // horizontal transpose: back[q] = sum_k win[k] src[q - k] over 0 <= q - k < wv
         T* back = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
-        T* pad = pad_.data() + static_cast<std::size_t>(t) * pad_len;
-        const auto edge = static_cast<std::size_t>(K - 1);
-        for (std::size_t q = 0; q < edge; ++q)
-          pad[q] = pad[edge + static_cast<std::size_t>(wv) + q] = 0;
         for (int m = 0; m < 3; ++m) {
           const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh +
                          static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);

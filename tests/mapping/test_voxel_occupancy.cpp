@@ -58,7 +58,8 @@ TEST(MappingVoxelOccupancy, HoldsExactlyTheVoxelsASetOfKeysHolds) {
         ASSERT_EQ(occ.contains(x, y, z), ref.count(voxel_key(x, y, z, kVoxel)) == 1);
       }
   // erasing what is left empties every brick
-  for (const auto& [i, j, k] : ref) occ.erase((i + 0.5) * kVoxel, (j + 0.5) * kVoxel, (k + 0.5) * kVoxel);
+  for (const auto& [i, j, k] : ref)
+    occ.erase((i + 0.5) * kVoxel, (j + 0.5) * kVoxel, (k + 0.5) * kVoxel);
   EXPECT_EQ(occ.voxels(), 0u);
   EXPECT_EQ(occ.bricks(), 0u);
   occ.clear();
@@ -73,7 +74,7 @@ TEST(MappingVoxelOccupancy, ASurfaceCostsAFewBytesPerVoxel) {
   VoxelOccupancy occ(kVoxel);
   for (int i = 0; i < 150; ++i)
     for (int j = 0; j < 150; ++j) {
-      occ.insert(1.0 + 0.013, (i + 0.5) * kVoxel, (j + 0.5) * kVoxel);           // wall x = 1
+      occ.insert(1.0 + 0.013, (i + 0.5) * kVoxel, (j + 0.5) * kVoxel);               // wall x = 1
       occ.insert((i + 0.5) * kVoxel, (j + 0.5) * kVoxel, 0.3 * (i + 0.5) * kVoxel);  // floor
     }
   ASSERT_GT(occ.voxels(), 40000u);
