@@ -162,6 +162,7 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
       set->t_s.push_back(t_s);
       set->psnr_db.push_back(iq.psnr_db);
       set->ssim.push_back(iq.ssim);
+      set->psnr_valid_depth_by_frame.push_back(psnr_v);
       if (!std::isnan(psnr_v)) {
         set->psnr_valid_depth_db.push_back(psnr_v);
         set->ssim_valid_depth.push_back(ssim_v);

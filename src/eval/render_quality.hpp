@@ -37,6 +37,8 @@ struct QualitySet {
   std::vector<double> ssim;
   std::vector<double> psnr_valid_depth_db;  ///< frames with a depth image only
   std::vector<double> ssim_valid_depth;
+  /// psnr_valid_depth_db frame by frame, one per t_s: NaN for a frame without a depth image
+  std::vector<double> psnr_valid_depth_by_frame;
   [[nodiscard]] std::size_t frames() const { return t_s.size(); }
   [[nodiscard]] double mean_psnr_db() const;
   [[nodiscard]] double mean_ssim() const;

@@ -332,15 +332,25 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
     s["psnr_valid_depth_db"] = io::finite_or_null(q.mean_psnr_valid_depth_db());
     s["ssim_valid_depth"] = io::finite_or_null(q.mean_ssim_valid_depth());
     // Per frame, in time order: where along the run the map renders well or badly (a drift
-    // seen on a revisit, an area trained less). Whole frame only; the valid-depth means above.
-    io::Json t = io::Json::array(), psnr = io::Json::array(), ssim = io::Json::array();
+    // seen on a revisit, an area trained less, people in view). Whole frame, and PSNR over
+    // valid depth (null for a frame without a depth image).
+    io::Json t = io::Json::array(), psnr = io::Json::array(), ssim = io::Json::array(),
+             psnr_valid = io::Json::array();
+    const auto value = [](double v, int digits) {
+      return std::isfinite(v) ? io::fixed(v, digits) : io::Json(nullptr);
+    };
     for (std::size_t i = 0; i < q.frames(); ++i) {
       t.push_back(io::fixed(q.t_s[i], 3));
-      psnr.push_back(std::isfinite(q.psnr_db[i]) ? io::fixed(q.psnr_db[i], 3) : io::Json(nullptr));
-      ssim.push_back(std::isfinite(q.ssim[i]) ? io::fixed(q.ssim[i], 4) : io::Json(nullptr));
+      psnr.push_back(value(q.psnr_db[i], 3));
+      ssim.push_back(value(q.ssim[i], 4));
+      psnr_valid.push_back(i < q.psnr_valid_depth_by_frame.size()
+                               ? value(q.psnr_valid_depth_by_frame[i], 3)
+                               : io::Json(nullptr));
     }
-    s["per_frame"] =
-        io::Json{{"t_s", std::move(t)}, {"psnr_db", std::move(psnr)}, {"ssim", std::move(ssim)}};
+    s["per_frame"] = io::Json{{"t_s", std::move(t)},
+                              {"psnr_db", std::move(psnr)},
+                              {"ssim", std::move(ssim)},
+                              {"psnr_valid_depth_db", std::move(psnr_valid)}};
     return s;
   };
   j["plots"] = r.plots;

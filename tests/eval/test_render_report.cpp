@@ -220,6 +220,12 @@ TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
     EXPECT_NEAR(per_frame["psnr_db"][i].get<double>(), good.quality.held_out.psnr_db[i], 1e-3);
     EXPECT_NEAR(per_frame["ssim"][i].get<double>(), good.quality.held_out.ssim[i], 1e-4);
   }
+  // and their PSNR over valid depth (every frame here has depth), whose mean is the set's
+  ASSERT_EQ(per_frame.at("psnr_valid_depth_db").size(), 6u);
+  double valid_sum = 0;
+  for (std::size_t i = 0; i < 6; ++i)
+    valid_sum += per_frame["psnr_valid_depth_db"][i].get<double>();
+  EXPECT_NEAR(valid_sum / 6, good.quality.held_out.mean_psnr_valid_depth_db(), 1e-3);
 
   // The report states the numbers it measured.
   EXPECT_NE(md.find("## Rendering quality (PSNR, SSIM)"), std::string::npos) << md;
