@@ -235,7 +235,7 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   const auto n_vis = static_cast<std::size_t>(n_visible_);
   resize_by_eighths(visible_slot_, n);
   resize_by_eighths(visible_ids_, n_vis);
-  resize_by_eighths(reach_, 2 * n_vis);  // per visible Gaussian, not per Gaussian
+  resize_by_eighths(reach_, 3 * n_vis);  // per visible Gaussian, not per Gaussian
   resize_by_eighths(slot_tiles_, 4 * n_vis);
   resize_by_eighths(slot_pairs_, n_vis + 1);
   // Every pass below is claimed by whichever thread is free (units, then chunks of slots), and
@@ -254,10 +254,11 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
       const auto s = static_cast<std::size_t>(slot);
       visible_ids_[s] = static_cast<int>(i);
       visible_slot_[i] = slot++;
-      T& rx = reach_[2 * s];
-      T& ry = reach_[2 * s + 1];
-      kernel_reach(&proj_.conic[3 * i], sigma_cutoff(proj_.opacity[i], settings_.min_alpha), rx,
-                   ry);
+      T& rx = reach_[3 * s];
+      T& ry = reach_[3 * s + 1];
+      T& sigma_cut = reach_[3 * s + 2];
+      sigma_cut = sigma_cutoff(proj_.opacity[i], settings_.min_alpha);
+      kernel_reach(&proj_.conic[3 * i], sigma_cut, rx, ry);
       int* rect = &slot_tiles_[4 * s];
       rect_of(i, rx, ry, rect[0], rect[1], rect[2], rect[3]);
       slot_pairs_[s + 1] = rect[2] >= rect[0] && rect[3] >= rect[1]
@@ -363,11 +364,12 @@ void Rasterizer<T>::gather_tile(int tile, std::vector<TileGaussian<T>>& buf,
     tg.g = g.color_rgb[3 * i + 1];
     tg.b = g.color_rgb[3 * i + 2];
     tg.z = proj_.depth[i];
-    tg.sigma_cut = sigma_cutoff(tg.opacity, settings_.min_alpha);
-    const auto slot = 2 * static_cast<std::size_t>(visible_slot_[i]);
-    tg.reach_x = settings_.skip_out_of_reach ? reach_[slot] : std::numeric_limits<T>::infinity();
-    tg.reach_y =
-        settings_.skip_out_of_reach ? reach_[slot + 1] : std::numeric_limits<T>::infinity();
+    // the reach and the cut come from the slot's record (bin_tiles): one log per visible
+    // Gaussian per render, not one per Gaussian-tile pair per pass
+    const T* rec = &reach_[3 * static_cast<std::size_t>(visible_slot_[i])];
+    tg.sigma_cut = rec[2];
+    tg.reach_x = settings_.skip_out_of_reach ? rec[0] : std::numeric_limits<T>::infinity();
+    tg.reach_y = settings_.skip_out_of_reach ? rec[1] : std::numeric_limits<T>::infinity();
   }
 }
 

@@ -126,9 +126,10 @@ class Rasterizer {
   std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
   int n_visible_ = 0;
   std::vector<int> visible_ids_;  ///< slot -> Gaussian id
-  std::vector<T> reach_;          ///< 2 per visible slot: kernel_reach across and down, pixels
-  std::vector<int> slot_tiles_;   ///< 4 per visible slot: its tiles x0, y0, x1, y1 (inclusive)
-  std::vector<int> slot_pairs_;   ///< visible + 1: offsets of each slot's pairs in pair_grad_
+  /// 3 per visible slot: kernel_reach across and down (pixels), and the sigma_cutoff it used
+  std::vector<T> reach_;
+  std::vector<int> slot_tiles_;  ///< 4 per visible slot: its tiles x0, y0, x1, y1 (inclusive)
+  std::vector<int> slot_pairs_;  ///< visible + 1: offsets of each slot's pairs in pair_grad_
   /// backward: per Gaussian-tile pair, grouped by visible slot, row-major tile order within one
   std::vector<TileGrad<T>> pair_grad_;
   std::vector<std::vector<float>> simd_scratch_;  ///< per thread, AVX2 backward sums
