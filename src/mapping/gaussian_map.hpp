@@ -23,6 +23,16 @@ struct GaussianParams {
   std::vector<T> color_rgb;      ///< 3 per Gaussian: linear RGB, nominally [0, 1]
 
   [[nodiscard]] std::size_t size() const { return opacity_logit.size(); }
+  /// Every parameter of Gaussian i is finite (the prune removes, and the PLY writer leaves
+  /// out, a Gaussian that is not).
+  [[nodiscard]] bool finite(std::size_t i) const {
+    bool ok = std::isfinite(opacity_logit[i]);
+    for (std::size_t k = 0; k < 3; ++k)
+      ok = ok && std::isfinite(mean_w[3 * i + k]) && std::isfinite(log_scale[3 * i + k]) &&
+           std::isfinite(color_rgb[3 * i + k]);
+    for (std::size_t k = 0; k < 4; ++k) ok = ok && std::isfinite(quat_wxyz[4 * i + k]);
+    return ok;
+  }
   /// Bytes held by the five arrays (their capacities).
   [[nodiscard]] std::size_t capacity_bytes() const {
     return vigs::capacity_bytes(mean_w, log_scale, quat_wxyz, opacity_logit, color_rgb);

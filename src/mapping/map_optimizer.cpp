@@ -14,12 +14,7 @@ std::vector<char> prune_keep_mask(const GaussianMap& map, const PruneSettings& s
     const float* ls = &map.log_scale[3 * i];
     const bool too_big = std::max({ls[0], ls[1], ls[2]}) > log_max;
     const bool too_thin = map.opacity_logit[i] < logit_min;
-    bool bad = !std::isfinite(map.opacity_logit[i]);
-    for (int k = 0; k < 3; ++k)
-      bad = bad || !std::isfinite(map.mean_w[3 * i + k]) || !std::isfinite(ls[k]) ||
-            !std::isfinite(map.color_rgb[3 * i + k]);
-    for (int k = 0; k < 4; ++k) bad = bad || !std::isfinite(map.quat_wxyz[4 * i + k]);
-    keep[i] = (too_big || too_thin || bad) ? 0 : 1;
+    keep[i] = (too_big || too_thin || !map.finite(i)) ? 0 : 1;
   }
   return keep;
 }

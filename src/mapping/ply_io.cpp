@@ -32,16 +32,8 @@ bool little_endian_host() {
 
 std::size_t write_gaussian_ply(const std::string& path, const GaussianMap& map) {
   if (!little_endian_host()) throw PlyError(path + ": big-endian hosts are not supported");
-  const auto finite = [&](std::size_t i) {
-    bool ok = std::isfinite(map.opacity_logit[i]);
-    for (std::size_t k = 0; k < 3; ++k)
-      ok = ok && std::isfinite(map.mean_w[3 * i + k]) && std::isfinite(map.log_scale[3 * i + k]) &&
-           std::isfinite(map.color_rgb[3 * i + k]);
-    for (std::size_t k = 0; k < 4; ++k) ok = ok && std::isfinite(map.quat_wxyz[4 * i + k]);
-    return ok;
-  };
   std::size_t written = 0;
-  for (std::size_t i = 0; i < map.size(); ++i) written += finite(i) ? 1 : 0;
+  for (std::size_t i = 0; i < map.size(); ++i) written += map.finite(i) ? 1 : 0;
   try {
     io::write_file_atomically(path, [&](std::FILE* f) {
       std::string header =
@@ -52,7 +44,7 @@ std::size_t write_gaussian_ply(const std::string& path, const GaussianMap& map) 
       float row[kNumProps];
       const float c0 = static_cast<float>(kShC0);
       for (std::size_t i = 0; i < map.size(); ++i) {
-        if (!finite(i)) continue;
+        if (!map.finite(i)) continue;
         for (int k = 0; k < 3; ++k) {
           row[k] = map.mean_w[3 * i + k];
           row[3 + k] = 0.0f;
