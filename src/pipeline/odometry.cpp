@@ -138,8 +138,11 @@ TrackedFrame Odometry::track(const RgbdView& frame) {
     case tracking::TrackingStatus::initialized:
       break;
     case tracking::TrackingStatus::tracked:
-      ++counters_.tracked;
-      if (out.gicp.verdict == tracking::GicpVerdict::not_converged) ++counters_.not_converged;
+      // a pose GICP left at max_iterations is still used, but counted apart, not as tracked
+      if (out.gicp.verdict == tracking::GicpVerdict::not_converged)
+        ++counters_.not_converged;
+      else
+        ++counters_.tracked;
       break;
     case tracking::TrackingStatus::lost_low_inliers:
       ++counters_.lost;

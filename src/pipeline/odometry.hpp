@@ -89,8 +89,10 @@ struct TrackedFrame {
 
 struct OdometryCounters {
   long frames = 0;
-  long tracked = 0;           ///< pose from GICP (status tracked), converged or not
-  long not_converged = 0;     ///< of the tracked: GICP hit max_iterations before converging
+  long tracked = 0;  ///< pose from GICP (status tracked) that converged
+  /// Pose from GICP (status tracked) that hit max_iterations before converging: used like a
+  /// tracked pose, counted apart from `tracked` (frames = 1 + tracked + not_converged + lost).
+  long not_converged = 0;
   long degenerate = 0;        ///< frames whose GICP alone had a degenerate direction
   long moving_points = 0;     ///< keyframe points rejected as moving, summed
   long lost = 0;              ///< any lost_* status
