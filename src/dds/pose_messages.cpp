@@ -19,6 +19,8 @@ static_assert(pq::FLAG_IMU_UNAVAILABLE == kPoseFlagImuUnavailable);
 static_assert(pq::FLAG_FRAMES_SKIPPED == kPoseFlagFramesSkipped);
 static_assert(pq::FLAG_OUT_OF_ORDER == kPoseFlagOutOfOrder);
 static_assert(pq::FLAG_MAP_RESTARTED == kPoseFlagMapRestarted);
+static_assert(pq::FLAG_IMU_CORRUPT == kPoseFlagImuCorrupt);
+static_assert(pq::FLAG_CAMERA_REOPENED == kPoseFlagCameraReopened);
 
 template <std::size_t N>
 bool all_finite(const double (&v)[N]) noexcept {

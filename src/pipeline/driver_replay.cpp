@@ -210,7 +210,8 @@ void DriverReplay::run(const std::stop_token& stop, const drivers::Openni2Driver
     std::vector<std::uint8_t> msg =
         drivers::xsens::encode_mtdata2(stf, {s.accel_mps2[0], s.accel_mps2[1], s.accel_mps2[2]},
                                        {s.gyro_rps[0], s.gyro_rps[1], s.gyro_rps[2]});
-    if (f.corrupt_every > 0 && ++messages % static_cast<std::uint64_t>(f.corrupt_every) == 0) {
+    if (f.corrupt_every > 0 && s.t_ns - first_frame_t_ns_ >= f.corrupt_from_ns &&
+        ++messages % static_cast<std::uint64_t>(f.corrupt_every) == 0) {
       msg[msg.size() / 2] ^= 0x5A;  // inside the payload: the checksum no longer matches
       corrupted_.add();
     }

@@ -26,13 +26,14 @@
 //
 // Faults (tests, DriverReplayFaults): the IMU goes silent for a while (its samples in the window
 // are never written: the stream stops and resumes, the driver counts a counter gap); one byte of
-// every Nth message flipped (the parser rejects the checksum and resyncs, counted); the camera
-// disappears (its clip is cut inside a frame, so OpenNI2's playback stalls and the driver's
-// frame watchdog loses the device; the path is removed then, so reopening fails as for an
-// unplugged camera) and returns (a clip of the later frames is renamed onto the path; the
-// driver reopens it with its backoff and plays on).
+// every Nth message flipped, from a given time on (the parser rejects the checksum and resyncs,
+// counted); the camera disappears (its clip is cut inside a frame, so OpenNI2's playback stalls
+// and the driver's frame watchdog loses the device; the path is removed then, so reopening fails
+// as for an unplugged camera) and returns (a clip of the later frames is renamed onto the path;
+// the driver reopens it with its backoff and plays on).
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,9 +51,12 @@ class Openni2Driver;
 namespace vigs::pipeline {
 
 struct DriverReplayFaults {
-  std::int64_t imu_pause_at_ns = -1;    ///< recording time after the first frame; < 0: never
-  std::int64_t imu_pause_ns = 0;        ///< the IMU sends nothing for this long
-  int corrupt_every = 0;                ///< flip one byte of every Nth IMU message; 0: none
+  std::int64_t imu_pause_at_ns = -1;  ///< recording time after the first frame; < 0: never
+  std::int64_t imu_pause_ns = 0;      ///< the IMU sends nothing for this long
+  int corrupt_every = 0;              ///< flip one byte of every Nth IMU message; 0: none
+  /// Recording time after the first frame from which messages are counted for corrupt_every
+  /// (the default: every message, also those recorded before the first frame).
+  std::int64_t corrupt_from_ns = std::numeric_limits<std::int64_t>::min();
   std::int64_t camera_gone_at_ns = -1;  ///< recording time after the first frame; < 0: never
   std::int64_t camera_gone_ns = 0;      ///< the camera returns with the frame this much later
   [[nodiscard]] bool camera_gone() const noexcept { return camera_gone_at_ns >= 0; }

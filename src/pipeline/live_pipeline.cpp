@@ -47,6 +47,27 @@ record::RecordedPose recorded_pose(const LiveFrameResult& r, std::uint64_t index
   return rp;
 }
 
+// The drivers' fault totals the tracker flags its poses with (DriverFaultCounts): relaxed
+// snapshots of their counters (noexcept, no allocation or lock), read on the tracker thread.
+class DriverFaultTotals final : public DriverFaultCounts {
+ public:
+  DriverFaultTotals(const drivers::Openni2Driver* camera,
+                    const drivers::SerialImuDriver* imu) noexcept
+      : camera_(camera), imu_(imu) {}
+  [[nodiscard]] std::uint64_t imu_corrupt() const noexcept override {
+    if (imu_ == nullptr) return 0;
+    const drivers::SerialImuFaults f = imu_->faults();
+    return f.bad_checksum + f.resync_bytes_skipped + f.oversize_length + f.malformed_payload;
+  }
+  [[nodiscard]] std::uint64_t camera_losses() const noexcept override {
+    return camera_ != nullptr ? camera_->counters().losses : 0;
+  }
+
+ private:
+  const drivers::Openni2Driver* camera_;
+  const drivers::SerialImuDriver* imu_;
+};
+
 rt::ThreadSpec table_spec(const char* name, const config::RtSettings& rt) {
   return rt::apply_policy(rt::thread_spec(name), rt.realtime_priorities, rt.pin_cpus);
 }
@@ -190,6 +211,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     ts.phase_lock.period_ns = tracker_spec.period_ns;
     ts.phase_lock.lead_ns = std::llround(cfg.rt.tracker_phase_lead_ms * 1e6);
   }
+  // The drivers' corrupt IMU bytes and camera losses flag the next pose.
+  const DriverFaultTotals driver_faults(camera_driver.get(), imu_driver.get());
+  if (camera_driver || imu_driver) ts.driver_faults = &driver_faults;
   LiveTracker tracker(cfg, ts, {pool, frames, imu, poses, results, handoff ? &*handoff : nullptr});
   // The tick slides toward the frames' arrival (LiveTracker's phase lock) at the same rate.
   rt::PeriodicTask tracker_task(

@@ -226,7 +226,7 @@ void LiveTracker::process(rt::FrameHandle h, std::int64_t wake_ns) noexcept {
   const std::int64_t t0 = rt::monotonic_ns();
   const TrackedFrame f = odometry_->track(view);
   const std::int64_t t1 = rt::monotonic_ns();
-  std::uint32_t flags = pending_flags_;
+  std::uint32_t flags = pending_flags_ | driver_fault_flags();
   pending_flags_ = 0;
   // No prediction, or one the IMU stream stopped short of (the frontend then extrapolates the
   // last reading): flagged and counted.
@@ -247,6 +247,18 @@ void LiveTracker::process(rt::FrameHandle h, std::int64_t wake_ns) noexcept {
   r_.pool.release(h);
   frames_.add();
   ++frame_index_;
+}
+
+std::uint32_t LiveTracker::driver_fault_flags() noexcept {
+  if (s_.driver_faults == nullptr) return 0;
+  std::uint32_t flags = 0;
+  const std::uint64_t imu_corrupt = s_.driver_faults->imu_corrupt();
+  if (imu_corrupt != imu_corrupt_seen_) flags |= kPoseFlagImuCorrupt;
+  imu_corrupt_seen_ = imu_corrupt;
+  const std::uint64_t camera_losses = s_.driver_faults->camera_losses();
+  if (camera_losses != camera_losses_seen_) flags |= kPoseFlagCameraReopened;
+  camera_losses_seen_ = camera_losses;
+  return flags;
 }
 
 void LiveTracker::hand_keyframe(const TrackedFrame& f, rt::FrameHandle h) noexcept {

@@ -26,7 +26,10 @@
 // released (out_of_order, kPoseFlagOutOfOrder on the next pose); an IMU sample older than the
 // last is refused by the Odometry (imu_refused); a frame without an IMU prediction is flagged
 // kPoseFlagImuUnavailable, as is one whose newest IMU sample is over 100 ms older than it (the
-// stream stopped: the IMU frontend extrapolates its last reading until samples return).
+// stream stopped: the IMU frontend extrapolates its last reading until samples return). The
+// drivers' own faults (LiveTrackerSettings::driver_faults, counted on their threads) flag the
+// first pose after their count grew: corrupt serial IMU bytes kPoseFlagImuCorrupt, a lost
+// (and reopened) camera kPoseFlagCameraReopened.
 // Lockstep waits are bounded (wait_timeout_ns): a stage that does not move in that time fails
 // the tracker with a message naming the ring instead of hanging.
 // After warm-up the tick does not allocate, lock or log: the tracking buffers are sized for a
@@ -67,6 +70,20 @@ struct LiveFrameResult {
 /// covariance, velocity or flags (the tracker adds those to what it publishes).
 PoseSample tracked_pose(const TrackedFrame& f, std::uint64_t index);
 
+/// Fault totals the drivers keep on their own threads, which the tracker turns into pose flags:
+/// it reads both once per pose and flags the pose when one has grown since the previous pose
+/// (the first pose: since the tracker was made). Called on the tracker thread: monotonic
+/// counts, and no allocation, lock or log (relaxed loads of the drivers' counters).
+class DriverFaultCounts {
+ public:
+  virtual ~DriverFaultCounts() = default;
+  /// Serial IMU bytes found corrupt (checksums failed, bytes skipped to resync, ...):
+  /// kPoseFlagImuCorrupt.
+  [[nodiscard]] virtual std::uint64_t imu_corrupt() const noexcept = 0;
+  /// Camera streams lost (each then reopened): kPoseFlagCameraReopened.
+  [[nodiscard]] virtual std::uint64_t camera_losses() const noexcept = 0;
+};
+
 struct LiveTrackerSettings {
   bool lockstep = false;
   std::int64_t wait_timeout_ns = 30'000'000'000;  ///< lockstep: bound on any wait
@@ -76,6 +93,9 @@ struct LiveTrackerSettings {
   /// Real time: phase-lock the ticks to the frames' arrival (rt.tracker_phase_lock; period 0 =
   /// off, and always off in lockstep). tick() then returns the next deadline's shift.
   rt::PhaseLockSettings phase_lock;
+  /// The drivers' fault counts (null: no drivers, e.g. a recording played into the rings);
+  /// must outlive the tracker.
+  const DriverFaultCounts* driver_faults = nullptr;
 };
 
 struct LiveTrackerRings {
@@ -134,6 +154,9 @@ class LiveTracker {
   /// Before the Odometry exists: moves the samples up to t_ns into early_imu_ (for its start).
   void gather_early_imu(std::int64_t t_ns) noexcept;
   void await_imu(std::int64_t t_ns) noexcept;
+  /// kPoseFlagImuCorrupt / kPoseFlagCameraReopened when the drivers' counts grew since the
+  /// previous call.
+  std::uint32_t driver_fault_flags() noexcept;
   void finish() noexcept;
   /// Mapping on: keeps a held keyframe's frame, and hands a released keyframe to the mapper
   /// with its own frame (this one, or the oldest kept one).
@@ -152,6 +175,8 @@ class LiveTracker {
   std::int64_t last_t_ns_ = INT64_MIN;
   std::int64_t last_imu_t_ns_ = INT64_MIN;  // newest IMU sample moved into the Odometry
   std::uint32_t pending_flags_ = 0;
+  std::uint64_t imu_corrupt_seen_ = 0;  // DriverFaultCounts at the previous pose
+  std::uint64_t camera_losses_seen_ = 0;
   bool end_pending_ = false;  // the end marker was taken behind the frame being tracked
   std::uint64_t frame_index_ = 0;
   // Frames of the keyframes the tracker holds, oldest first, retained (made at start-up, room

@@ -1,16 +1,37 @@
 // LiveTracker's backlog and fault policies, driven tick by tick on the test thread with frames
 // pushed by hand: skip to the newest frame (counted, flagged), a frame stamped before its
-// predecessor (released, counted, the next pose flagged), a lost frame (propagated) and the
-// local map restarting (flagged), the end marker ending the stream.
+// predecessor (released, counted in the tracker and the 1 Hz status, the next pose flagged), the
+// drivers' corrupt IMU bytes and camera losses (the first pose after each flagged), a lost frame
+// (propagated) and the local map restarting (flagged), the end marker ending the stream.
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "core/config/robot_config.hpp"
+#include "pipeline/live_status.hpp"
 #include "pipeline/live_tracker.hpp"
+#include "rt/periodic_task.hpp"
+#include "rt/thread_table.hpp"
 
 namespace vigs::pipeline {
 namespace {
+
+/// The drivers' fault totals, set by hand between ticks (the test thread is the tracker's).
+struct FakeDriverFaults final : DriverFaultCounts {
+  [[nodiscard]] std::uint64_t imu_corrupt() const noexcept override { return imu_corrupt_count; }
+  [[nodiscard]] std::uint64_t camera_losses() const noexcept override { return camera_loss_count; }
+  std::uint64_t imu_corrupt_count = 0;
+  std::uint64_t camera_loss_count = 0;
+};
+
+std::optional<std::uint64_t> status_fault(const dds::StatusSnapshot& st, const std::string& name) {
+  for (std::uint32_t i = 0; i < st.fault_count; ++i) {
+    if (name == st.faults[i].name) return st.faults[i].count;
+  }
+  return std::nullopt;
+}
 
 class LiveTrackerFaults : public ::testing::Test {
  protected:
@@ -46,6 +67,7 @@ class LiveTrackerFaults : public ::testing::Test {
     return out;
   }
 
+  FakeDriverFaults driver_faults_;  // outlives the tracker
   config::RobotConfig cfg_;
   LiveTrackerSettings settings_;
   rt::FramePool pool_{{.slots = 8, .width = 64, .height = 48, .colour_channels = 3}};
@@ -87,6 +109,43 @@ TEST_F(LiveTrackerFaults, OutOfOrderFrameIsDroppedCountedAndFlagged) {
   EXPECT_EQ(tracker_->counters().out_of_order, 1u);
   EXPECT_EQ(tracker_->counters().frames, 2u);
   EXPECT_EQ(pool_.available(), pool_.capacity());
+  // The count reaches the 1 Hz status (rt/vigs/status) as tracker.out_of_order.
+  const rt::PeriodicTask task(rt::thread_spec("tracker"), [] {});
+  const LiveStatusSources sources{&task, nullptr, &*tracker_, nullptr, &frames_,
+                                  &imu_, &poses_, nullptr,    nullptr, nullptr};
+  EXPECT_EQ(status_fault(make_status_snapshot(sources, 1'000), "tracker.out_of_order"), 1u);
+}
+
+// The drivers count their faults on their own threads; the tracker flags the first pose after a
+// count grew, and only that one.
+TEST_F(LiveTrackerFaults, DriverFaultsFlagTheFirstPoseAfterThem) {
+  settings_.driver_faults = &driver_faults_;
+  make_tracker();
+  const auto track = [&](std::int64_t t_ns) {
+    push(t_ns);
+    tracker_->tick();
+  };
+  track(3'000'000'000);
+  driver_faults_.imu_corrupt_count = 3;  // a bad checksum and the bytes skipped to resync
+  track(3'050'000'000);
+  track(3'100'000'000);
+  driver_faults_.camera_loss_count = 1;  // lost and reopened before the next frame
+  track(3'150'000'000);
+  track(3'200'000'000);
+  driver_faults_.imu_corrupt_count = 5;
+  driver_faults_.camera_loss_count = 2;
+  track(3'250'000'000);
+  track(3'300'000'000);
+  const auto p = poses();
+  ASSERT_EQ(p.size(), 7u);
+  constexpr std::uint32_t kDriverFlags = kPoseFlagImuCorrupt | kPoseFlagCameraReopened;
+  EXPECT_EQ(p[0].flags & kDriverFlags, 0u);
+  EXPECT_EQ(p[1].flags & kDriverFlags, kPoseFlagImuCorrupt);
+  EXPECT_EQ(p[2].flags & kDriverFlags, 0u);
+  EXPECT_EQ(p[3].flags & kDriverFlags, kPoseFlagCameraReopened);
+  EXPECT_EQ(p[4].flags & kDriverFlags, 0u);
+  EXPECT_EQ(p[5].flags & kDriverFlags, kDriverFlags);
+  EXPECT_EQ(p[6].flags & kDriverFlags, 0u);
 }
 
 // The flat wall leaves GICP a degenerate problem (a plane): with no prior, every frame after the

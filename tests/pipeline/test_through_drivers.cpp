@@ -8,16 +8,20 @@
 //    its ATE is within the lockstep replay's bound (tests/pipeline/test_odometry.cpp);
 //  - faults injected by the feeder, each counted and flagged, none stopping the run: the IMU
 //    silent for 1 s (and a subscriber in another process sees each pose's flags and source on
-//    the pose_quality topic), corrupted serial bytes (and the status topic says so), the camera
-//    lost and back. (A frame out of order cannot leave the OpenNI2 driver, whose DeviceClock keeps
-//    stamps increasing; the tracker's own policy is tested in test_live_tracker_faults.cpp.)
-// DDS domains 181-183, loopback, shared-memory segments cleaned up.
+//    the pose_quality topic), corrupted serial bytes (the poses after them flagged IMU-corrupt,
+//    on DDS too, and the status topic says so), the camera lost and back (the first pose after
+//    it flagged camera-reopened, the loss in the status). (A frame out of order cannot leave the
+//    OpenNI2 driver, whose DeviceClock keeps stamps increasing; the tracker's own policy and its
+//    status count are tested in test_live_tracker_faults.cpp.)
+// DDS domains 181-184, loopback, shared-memory segments cleaned up.
 #include <gtest/gtest.h>
 
 #include <signal.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -118,6 +122,10 @@ TEST_F(ThroughDrivers, EveryPoseReachesAnotherProcessInOrderAndTheAteHolds) {
   EXPECT_LE(r.imu_driver->samples_out, r.feeder.imu_samples_written);
   EXPECT_GE(r.imu_driver->samples_out + 2, r.feeder.imu_samples_written);
   EXPECT_EQ(r.imu_driver->bad_checksum + r.imu_driver->sample_counter_gap, 0u);
+  // Clean drivers flag no pose with their faults.
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(r.pose_flags[i] & (kPoseFlagImuCorrupt | kPoseFlagCameraReopened), 0u) << i;
+  }
   // Every frame read was tracked, skipped, dropped at the camera ring, or waited for the IMU.
   EXPECT_EQ(n + r.tracker.skipped + r.source.frame_drops + r.tracker.waiting_imu,
             r.camera_driver->frames_read);
@@ -256,19 +264,29 @@ TEST_F(ThroughDrivers, CorruptSerialBytesAreResyncedCountedAndInTheStatus) {
   LiveOptions o = options();
   o.mapping = false;
   o.dds_domain = kDomain;
-  o.driver_faults.corrupt_every = 25;
+  o.wait_for_subscribers = 1;
+  // Every 10th message (one every 50 ms) from 2 s on: the poses before are clean.
+  constexpr std::int64_t kCorruptFromNs = 2 * kS;
+  o.driver_faults.corrupt_every = 10;
+  o.driver_faults.corrupt_from_ns = kCorruptFromNs;
+  // Every VIGS topic (echo subscribes the pose last: matched, the pose_quality reader is too).
   dds::test::ChildProcess echo(
-      {VIGS_BIN, "echo", "rt/vigs/status", "--domain", std::to_string(kDomain), "--timeout", "0"});
+      {VIGS_BIN, "echo", "--domain", std::to_string(kDomain), "--timeout", "0"});
   dds::test::OutputDrainer drainer(echo);
   const LiveResult r = run_live(cfg, o);
   drainer.stop();
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
   ASSERT_EQ(::kill(echo.pid(), SIGINT), 0);
   ASSERT_EQ(echo.wait(std::chrono::seconds(20)), 0) << echo.output();
 
   ASSERT_TRUE(r.imu_driver);
   const std::uint64_t corrupted = r.feeder.imu_messages_corrupted;
-  EXPECT_EQ(corrupted, r.feeder.imu_samples_written / 25);
+  const std::int64_t corrupt_from = first_stamp() + kCorruptFromNs;
+  const auto clean = static_cast<std::uint64_t>(
+      std::count_if(motion_->imu.begin(), motion_->imu.end(),
+                    [&](const ImuSample& s) { return s.t_ns < corrupt_from; }));
+  ASSERT_GT(r.feeder.imu_samples_written, clean);
+  EXPECT_EQ(corrupted, (r.feeder.imu_samples_written - clean) / 10);
   EXPECT_GE(corrupted, 35u);
   // Each corrupted message is rejected by its checksum and skipped; every other one arrives
   // (but the last bytes written just before the stop, at most 2 samples).
@@ -280,26 +298,75 @@ TEST_F(ThroughDrivers, CorruptSerialBytesAreResyncedCountedAndInTheStatus) {
   // The run went on, tracking with the IMU throughout.
   EXPECT_GT(r.replay.frames.size(), 40u);
   EXPECT_TRUE(r.camera_driver->end_of_stream);
-  // The 1 Hz status topic, in another process, reports the count.
-  std::uint64_t reported = 0;
-  for (const io::Json& line : json_lines(echo.output())) {
-    for (const io::Json& f : line["msg"]["faults"])
-      if (f["name"] == "imu.bad_checksum")
-        reported = std::max(reported, f["count"].get<std::uint64_t>());
+  // The poses say so: none well before the first corrupt message (a pose is flagged when its
+  // frame is tracked, some 10-50 ms after its stamp), and after it the first pose after each
+  // corrupt message (one every 50 ms, as the frames: most poses, fewer when two messages fall
+  // between the same poses, as when the tracker skips a frame).
+  std::size_t before = 0, after = 0, flagged_after = 0;
+  for (std::size_t i = 0; i < r.replay.frames.size(); ++i) {
+    const std::int64_t t = r.replay.frames[i].t_ns;
+    const bool flag = (r.pose_flags[i] & kPoseFlagImuCorrupt) != 0;
+    if (t < corrupt_from - kS / 5) {
+      ++before;
+      EXPECT_FALSE(flag) << "pose " << i << ", " << (corrupt_from - t) / 1'000'000
+                         << " ms before the first corrupt message";
+    }
+    if (t > corrupt_from + kS / 5) {
+      ++after;
+      flagged_after += flag;
+    }
   }
+  EXPECT_GE(before, 20u);
+  EXPECT_GE(after, 20u);
+  std::printf("corrupt IMU bytes: %zu of %zu poses after the first flagged, %zu before\n",
+              flagged_after, after, before);
+  EXPECT_GE(flagged_after * 2, after) << flagged_after << " of " << after << " poses";
+  // On DDS, in another process: each pose_quality carries the pose's flags (the corrupt ones
+  // included), and the 1 Hz status reports the count.
+  std::uint64_t reported = 0;
+  std::size_t i = 0, flagged_on_dds = 0;
+  for (const io::Json& line : json_lines(echo.output())) {
+    if (line["topic"] == "rt/vigs/status") {
+      for (const io::Json& f : line["msg"]["faults"])
+        if (f["name"] == "imu.bad_checksum")
+          reported = std::max(reported, f["count"].get<std::uint64_t>());
+    }
+    if (line["topic"] != "rt/vigs/pose_quality") continue;
+    ASSERT_LT(i, r.replay.frames.size());
+    const auto flags = line["msg"]["flags"].get<std::uint32_t>();
+    EXPECT_EQ(flags, r.pose_flags[i]) << "pose " << i;
+    flagged_on_dds += (flags & kPoseFlagImuCorrupt) != 0;
+    ++i;
+  }
+  EXPECT_EQ(i, r.replay.frames.size());
+  EXPECT_EQ(flagged_on_dds, static_cast<std::size_t>(std::count_if(
+                                r.pose_flags.begin(), r.pose_flags.end(),
+                                [](std::uint32_t f) { return (f & kPoseFlagImuCorrupt) != 0; })));
   EXPECT_GT(reported, 0u) << echo.output();
   EXPECT_LE(reported, r.imu_driver->bad_checksum);
 }
 
 TEST_F(ThroughDrivers, CameraLostAndBackIsReopenedAndTrackingGoesOn) {
+  const dds::test::ShmJanitor janitor;
+  config::RobotConfig cfg = drivers_config();
+  cfg.dds.enabled = true;
+  constexpr int kDomain = 184;
   LiveOptions o = options();
   o.mapping = false;
+  o.dds_domain = kDomain;
   // Gone for 2 s: the stall is seen after 400 ms and the first reopen follows 100 ms later,
   // which leaves the reopen well over a second to find no device even on a loaded machine.
   constexpr std::int64_t kGoneAtNs = 3 * kS / 2, kGoneForNs = 2 * kS;
   o.driver_faults.camera_gone_at_ns = kGoneAtNs;
   o.driver_faults.camera_gone_ns = kGoneForNs;
-  const LiveResult r = run_live(drivers_config(), o);
+  dds::test::ChildProcess echo(
+      {VIGS_BIN, "echo", "rt/vigs/status", "--domain", std::to_string(kDomain), "--timeout", "0"});
+  dds::test::OutputDrainer drainer(echo);
+  const LiveResult r = run_live(cfg, o);
+  drainer.stop();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_EQ(::kill(echo.pid(), SIGINT), 0);
+  ASSERT_EQ(echo.wait(std::chrono::seconds(20)), 0) << echo.output();
   ASSERT_TRUE(r.camera_driver);
   const drivers::RgbdDriverCounters& c = *r.camera_driver;
   EXPECT_EQ(r.feeder.camera_returns, 1u);
@@ -308,9 +375,11 @@ TEST_F(ThroughDrivers, CameraLostAndBackIsReopenedAndTrackingGoesOn) {
   EXPECT_GE(c.open_failures, 1u);  // unplugged: no device to reopen until it is back
   EXPECT_GE(c.reopens, 1u);
   EXPECT_TRUE(c.end_of_stream);
-  // Frames before the loss and after the return were tracked, in order.
+  // Frames before the loss and after the return were tracked, in order. The first pose after
+  // the loss is flagged camera-reopened, none before it.
   const std::int64_t gone = first_stamp() + kGoneAtNs;
-  std::size_t before = 0, after = 0;
+  std::size_t before = 0, after = 0, flagged = 0;
+  std::optional<bool> first_after_flagged;
   for (std::size_t i = 0; i < r.replay.frames.size(); ++i) {
     const std::int64_t t = r.replay.frames[i].t_ns;
     if (i > 0) {
@@ -319,9 +388,31 @@ TEST_F(ThroughDrivers, CameraLostAndBackIsReopenedAndTrackingGoesOn) {
     before += t < gone;
     after +=
         t > gone + kGoneForNs;  // the reopened camera is stamped at least as late as it returns
+    const bool flag = (r.pose_flags[i] & kPoseFlagCameraReopened) != 0;
+    flagged += flag;
+    if (t < gone) {
+      EXPECT_FALSE(flag) << "pose " << i << " before the loss";
+    }
+    if (t >= gone && !first_after_flagged) first_after_flagged = flag;
   }
   EXPECT_GE(before, 10u);
   EXPECT_GE(after, 10u);
+  EXPECT_EQ(first_after_flagged, std::optional<bool>(true));
+  EXPECT_GE(flagged, 1u);
+  EXPECT_LE(flagged, c.losses);
+  // The 1 Hz status topic, in another process, reports the loss and the reopen.
+  std::uint64_t losses = 0, reopens = 0;
+  for (const io::Json& line : json_lines(echo.output())) {
+    for (const io::Json& f : line["msg"]["faults"]) {
+      if (f["name"] == "camera.losses") losses = std::max(losses, f["count"].get<std::uint64_t>());
+      if (f["name"] == "camera.reopens")
+        reopens = std::max(reopens, f["count"].get<std::uint64_t>());
+    }
+  }
+  EXPECT_GE(losses, 1u) << echo.output();
+  EXPECT_LE(losses, c.losses);
+  EXPECT_GE(reopens, 1u) << echo.output();
+  EXPECT_LE(reopens, c.reopens);
   // Only the frames before the loss and after the return were read: none twice.
   EXPECT_LT(c.frames_read, stamps_->size());
 }

@@ -3,8 +3,9 @@
 // thread, which plays the `tracker` periodic task) and on the tracker's worker thread
 // (`tracker_w1`), once 40 frames have been tracked, over the next 200 frames of a simulated
 // office with walking people (the point count changes every frame) in lockstep, in both
-// fusion modes, with IMU guesses and keyframes handed to a mapper slot queue. The first few
-// offending call sites are kept and printed (`addr2line -Cfe FILE OFFSET` names them).
+// fusion modes, with IMU guesses, keyframes handed to a mapper slot queue, and driver fault
+// counts growing on another thread (corrupt IMU bytes, camera losses: poses flagged). The first
+// few offending call sites are kept and printed (`addr2line -Cfe FILE OFFSET` names them).
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
@@ -49,6 +50,17 @@ constexpr std::uint64_t kCountedFrames = 200;
 
 class TrackerAllocation : public ::testing::TestWithParam<const char*> {};
 
+// The drivers' fault totals, raised by the consumer thread as a driver's thread would.
+struct GrowingDriverFaults final : DriverFaultCounts {
+  [[nodiscard]] std::uint64_t imu_corrupt() const noexcept override {
+    return imu.load(std::memory_order_relaxed);
+  }
+  [[nodiscard]] std::uint64_t camera_losses() const noexcept override {
+    return camera.load(std::memory_order_relaxed);
+  }
+  std::atomic<std::uint64_t> imu{0}, camera{0};
+};
+
 TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
   g_allocations = 0;
   config::RobotConfig cfg = testing::small_office(13.0);  // 260 frames
@@ -58,7 +70,8 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
   const std::string path = dir.file("office.mcap");
   testing::simulate(cfg, path);
 
-  testing::LockstepTrackerRig rig(cfg, path);
+  GrowingDriverFaults driver_faults;
+  testing::LockstepTrackerRig rig(cfg, path, 16, &driver_faults);
   rt::FramePool& pool = rig.pool;
   KeyframeHandoff& handoff = rig.handoff;
   auto& poses = rig.poses;
@@ -68,6 +81,7 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
   // The mapper's, the publisher's and the main thread's sides, on one consumer thread.
   std::atomic<bool> consume{true};
   std::uint64_t results_seen = 0;
+  std::uint64_t poses_driver_flagged = 0;
   std::thread consumer([&] {
     while (consume.load()) {
       std::uint32_t index = 0;
@@ -78,6 +92,7 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
       }
       PoseSample p;
       while (poses.try_pop(p)) {
+        poses_driver_flagged += (p.flags & (kPoseFlagImuCorrupt | kPoseFlagCameraReopened)) != 0;
       }
       LiveFrameResult r;
       while (results.try_pop(r)) {
@@ -85,6 +100,8 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
         // Armed from the 41st result to the 240th: a lockstep tick tracks as many frames as
         // the source keeps queuing, so the count is kept here, not between ticks.
         ++results_seen;
+        if (results_seen % 7 == 0) driver_faults.imu.fetch_add(1, std::memory_order_relaxed);
+        if (results_seen % 11 == 0) driver_faults.camera.fetch_add(1, std::memory_order_relaxed);
         if (results_seen == kWarmUpFrames) g_armed = true;
         if (results_seen == kWarmUpFrames + kCountedFrames) g_armed = false;
       }
@@ -105,6 +122,7 @@ TEST_P(TrackerAllocation, NoAllocationAfterWarmUpOver200Frames) {
   const LiveTrackerCounters c = tracker.counters();
   ASSERT_GE(results_seen, kWarmUpFrames + kCountedFrames) << "the sequence is too short";
   EXPECT_GT(c.keyframes, 5u) << "keyframes must be made while counting";
+  EXPECT_GT(poses_driver_flagged, 20u) << "driver faults must flag poses while counting";
   const OdometryCounters oc = tracker.odometry_counters();
   EXPECT_GT(oc.imu_guesses, 200);
   const long n = g_allocations.load();

@@ -27,6 +27,12 @@ enum PoseFlags : std::uint32_t {
   /// The tracker restarted its local map at this frame (tracking.reinit_after_lost_frames lost
   /// frames in a row): poses before and after it are not in one consistent map.
   kPoseFlagMapRestarted = 1u << 4,
+  /// The serial IMU driver rejected corrupt bytes (a bad checksum, bytes skipped to resync)
+  /// since the previous pose: an IMU sample may be missing before this frame.
+  kPoseFlagImuCorrupt = 1u << 5,
+  /// The camera stream was lost since the previous pose and this frame is from the reopened
+  /// device: a gap in the frames, and the camera's clock anchored again.
+  kPoseFlagCameraReopened = 1u << 6,
 };
 
 struct PoseSample {
