@@ -5,8 +5,8 @@
 //   position (0.01 i, 1 + 0.5 i, -2), rotation about z by 0.01 i rad,
 //   covariance[k] = 1e-4 (k + 1) + 1e-9 i (every entry distinct: a transposed or shifted layout
 //   fails the check), velocity (0.1, 0.2, 0.3) in the world, angular rate (0, 0, 0.2) in camera,
-//   keyframe every 10th sample, source i % 4 (each PoseSource in turn), flags i % 32 (every
-//   combination of the five PoseFlags bits in 32 samples).
+//   keyframe every 10th sample, source i % 4 (each PoseSource in turn), flags i % 128 (every
+//   combination of the seven PoseFlags bits in 128 samples; each bit by sample 64).
 #include <cmath>
 #include <cstdint>
 
@@ -37,7 +37,7 @@ inline PoseSample pattern_sample(std::uint64_t i) {
   s.omega_c_radps[2] = 0.2;
   s.keyframe = i % 10 == 0;
   s.source = static_cast<PoseSource>(i % 4);
-  s.flags = static_cast<std::uint32_t>(i % 32);
+  s.flags = static_cast<std::uint32_t>(i % 128);
   return s;
 }
 

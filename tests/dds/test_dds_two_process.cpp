@@ -132,7 +132,8 @@ void run_pair(int domain, bool shm) {
   // The pattern went through every source and every flag bit (so each reached the subscriber).
   EXPECT_EQ(sources_seen, 0b1111u);
   EXPECT_EQ(flags_seen, kPoseFlagDegenerate | kPoseFlagImuUnavailable | kPoseFlagFramesSkipped |
-                            kPoseFlagOutOfOrder | kPoseFlagMapRestarted);
+                            kPoseFlagOutOfOrder | kPoseFlagMapRestarted | kPoseFlagImuCorrupt |
+                            kPoseFlagCameraReopened);
   ASSERT_EQ(r.keyframes.size(), static_cast<std::size_t>(kCount / 10));
   for (std::size_t j = 0; j < r.keyframes.size(); ++j) {
     expect_stamp(r.keyframes[j].header(), test::pattern_sample(10 * j).t_ns, "map");
