@@ -36,7 +36,7 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
   v_depth_.resize(np);
   const LossTerms<float> terms =
       loss_.evaluate(render_, view.rgb, view.depth_m, v_color_.data(), v_depth_.data());
-  raster_.accumulate_gradients(map, view.camera, render_, v_color_.data(),
+  raster_.accumulate_gradients(view.camera, render_, v_color_.data(),
                                view.depth_m ? v_depth_.data() : nullptr, nullptr);
   // fused: each Gaussian's gradient goes straight into its Adam update, no gradient copy
   const auto grad_of = [&](std::size_t i, float* g) {

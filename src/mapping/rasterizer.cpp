@@ -208,7 +208,7 @@ void Rasterizer<T>::number_units() {
 }
 
 template <class T>
-void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
+void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& cam) {
   tiles_x_ = (cam.width_px + kTilePx - 1) / kTilePx;
   tiles_y_ = (cam.height_px + kTilePx - 1) / kTilePx;
   const int n_tiles = tiles_x_ * tiles_y_;
@@ -221,7 +221,9 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   // square, and each tile it leaves costs every pixel of that tile a test in the forward and
   // backward passes. The render is the same: only tiles where no pixel passes the kernels'
   // test are left out (1 % and 0.01 px of slack for the kernels' rounding).
-  // The reach is kept per visible Gaussian for the kernels' row and run skip (gather_tile).
+  // Each visible Gaussian's kernel record (TileGaussian: the projection, colour, depth, the
+  // kernels' sigma cut and reach for their row and run skip) is packed once per slot here, so
+  // a tile's gather copies one record per pair instead of reading six arrays by Gaussian id.
   auto rect_of = [&](std::size_t i, T rx, T ry, int& x0, int& y0, int& x1, int& y1) {
     const T r = T(proj_.radius[i]);
     rx = std::min(r, rx);
@@ -235,7 +237,7 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
   const auto n_vis = static_cast<std::size_t>(n_visible_);
   resize_by_eighths(visible_slot_, n);
   resize_by_eighths(visible_ids_, n_vis);
-  resize_by_eighths(reach_, 3 * n_vis);  // per visible Gaussian, not per Gaussian
+  resize_by_eighths(packed_, n_vis);  // per visible Gaussian, not per Gaussian
   resize_by_eighths(slot_tiles_, 4 * n_vis);
   resize_by_eighths(slot_pairs_, n_vis + 1);
   // Every pass below is claimed by whichever thread is free (units, then chunks of slots), and
@@ -254,11 +256,22 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
       const auto s = static_cast<std::size_t>(slot);
       visible_ids_[s] = static_cast<int>(i);
       visible_slot_[i] = slot++;
-      T& rx = reach_[3 * s];
-      T& ry = reach_[3 * s + 1];
-      T& sigma_cut = reach_[3 * s + 2];
-      sigma_cut = sigma_cutoff(proj_.opacity[i], settings_.min_alpha);
-      kernel_reach(&proj_.conic[3 * i], sigma_cut, rx, ry);
+      TileGaussian<T>& tg = packed_[s];
+      tg.x = proj_.mean2d[2 * i];
+      tg.y = proj_.mean2d[2 * i + 1];
+      tg.ca = proj_.conic[3 * i];
+      tg.cb = proj_.conic[3 * i + 1];
+      tg.cc = proj_.conic[3 * i + 2];
+      tg.opacity = proj_.opacity[i];
+      tg.r = g.color_rgb[3 * i];
+      tg.g = g.color_rgb[3 * i + 1];
+      tg.b = g.color_rgb[3 * i + 2];
+      tg.z = proj_.depth[i];
+      tg.sigma_cut = sigma_cutoff(tg.opacity, settings_.min_alpha);
+      T rx = T(0), ry = T(0);
+      kernel_reach(&proj_.conic[3 * i], tg.sigma_cut, rx, ry);
+      tg.reach_x = settings_.skip_out_of_reach ? rx : std::numeric_limits<T>::infinity();
+      tg.reach_y = settings_.skip_out_of_reach ? ry : std::numeric_limits<T>::infinity();
       int* rect = &slot_tiles_[4 * s];
       rect_of(i, rx, ry, rect[0], rect[1], rect[2], rect[3]);
       slot_pairs_[s + 1] = rect[2] >= rect[0] && rect[3] >= rect[1]
@@ -316,30 +329,34 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
       const int* rect = &slot_tiles_[4 * s];
       for (int ty = rect[1]; ty <= rect[3]; ++ty)
         for (int tx = rect[0]; tx <= rect[2]; ++tx)
-          tile_ids_[static_cast<std::size_t>(cursor[ty * tiles_x_ + tx]++)] = visible_ids_[s];
+          tile_ids_[static_cast<std::size_t>(cursor[ty * tiles_x_ + tx]++)] = static_cast<int>(s);
     }
   });
   run_claimed(static_cast<std::size_t>(n_tiles), [&](int t, std::size_t tile) {
     int* b = tile_ids_.data() + tile_offsets_[tile];
     int* e = tile_ids_.data() + tile_offsets_[tile + 1];
     if constexpr (std::is_same_v<T, float>) {
-      // Near to far, ties by id, sorted as 64-bit keys (depth's bits above the id): a visible
-      // Gaussian's depth is finite and beyond the near plane, and positive floats order as their
-      // bit patterns, so this is the comparator's order below without a depth load per compare.
-      // The list is in id order (the fill above), so a stable sort by depth is this order.
+      // Near to far, ties by slot (slots ascend with the Gaussian ids: ties by id), sorted as
+      // 64-bit keys (depth's bits above the slot): a visible Gaussian's depth is finite and
+      // beyond the near plane, and positive floats order as their bit patterns, so this is the
+      // comparator's order below without a depth load per compare. The list is in slot order
+      // (the fill above), so a stable sort by depth is this order.
       const auto n_keys = static_cast<std::size_t>(e - b);
       std::vector<std::uint64_t>& keys = sort_keys_[static_cast<std::size_t>(t)];
       if (keys.size() < 2 * n_keys) keys.resize(2 * n_keys);  // the keys, then the scratch
       for (std::size_t k = 0; k < n_keys; ++k) {
-        const int id = b[k];
-        keys[k] = (std::uint64_t{std::bit_cast<std::uint32_t>(proj_.depth[id])} << 32) |
-                  static_cast<std::uint32_t>(id);
+        const int slot = b[k];
+        keys[k] =
+            (std::uint64_t{std::bit_cast<std::uint32_t>(packed_[static_cast<std::size_t>(slot)].z)}
+             << 32) |
+            static_cast<std::uint32_t>(slot);
       }
       sort_depth_keys(keys.data(), keys.data() + n_keys, n_keys);
       for (std::size_t k = 0; k < n_keys; ++k) b[k] = static_cast<int>(keys[k] & 0xffffffffu);
     } else {
       std::sort(b, e, [&](int a, int c) {
-        const T da = proj_.depth[a], dc = proj_.depth[c];
+        const T da = packed_[static_cast<std::size_t>(a)].z,
+                dc = packed_[static_cast<std::size_t>(c)].z;
         return da < dc || (da == dc && a < c);
       });
     }
@@ -347,37 +364,18 @@ void Rasterizer<T>::bin_tiles(const RenderCamera& cam) {
 }
 
 template <class T>
-void Rasterizer<T>::gather_tile(int tile, std::vector<TileGaussian<T>>& buf,
-                                const GaussianParams<T>& g) const {
+void Rasterizer<T>::gather_tile(int tile, std::vector<TileGaussian<T>>& buf) const {
   const int b = tile_offsets_[tile], e = tile_offsets_[tile + 1];
   buf.resize(static_cast<std::size_t>(e - b));
-  for (int k = b; k < e; ++k) {
-    const auto i = static_cast<std::size_t>(tile_ids_[k]);
-    TileGaussian<T>& tg = buf[static_cast<std::size_t>(k - b)];
-    tg.x = proj_.mean2d[2 * i];
-    tg.y = proj_.mean2d[2 * i + 1];
-    tg.ca = proj_.conic[3 * i];
-    tg.cb = proj_.conic[3 * i + 1];
-    tg.cc = proj_.conic[3 * i + 2];
-    tg.opacity = proj_.opacity[i];
-    tg.r = g.color_rgb[3 * i];
-    tg.g = g.color_rgb[3 * i + 1];
-    tg.b = g.color_rgb[3 * i + 2];
-    tg.z = proj_.depth[i];
-    // the reach and the cut come from the slot's record (bin_tiles): one log per visible
-    // Gaussian per render, not one per Gaussian-tile pair per pass
-    const T* rec = &reach_[3 * static_cast<std::size_t>(visible_slot_[i])];
-    tg.sigma_cut = rec[2];
-    tg.reach_x = settings_.skip_out_of_reach ? rec[0] : std::numeric_limits<T>::infinity();
-    tg.reach_y = settings_.skip_out_of_reach ? rec[1] : std::numeric_limits<T>::infinity();
-  }
+  for (int k = b; k < e; ++k)
+    buf[static_cast<std::size_t>(k - b)] = packed_[static_cast<std::size_t>(tile_ids_[k])];
 }
 
 template <class T>
 void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
                             RenderResult<T>& out, MapBlocks* blocks) {
   project_all(g, cam, blocks);
-  bin_tiles(cam);
+  bin_tiles(g, cam);
   const std::size_t n_px = static_cast<std::size_t>(cam.width_px) * cam.height_px;
   out.width = cam.width_px;
   out.height = cam.height_px;
@@ -396,7 +394,7 @@ void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
     const int tile = static_cast<int>(tile_index);
     auto& buf = gather_[static_cast<std::size_t>(t)];
     const TileRect rect = tile_rect(tile, cam);
-    gather_tile(tile, buf, g);
+    gather_tile(tile, buf);
     const int count = static_cast<int>(buf.size());
     if constexpr (std::is_same_v<T, float>) {
       if (simd) {
@@ -411,9 +409,8 @@ void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
 }
 
 template <class T>
-void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const RenderCamera& cam,
-                                         const RenderResult<T>& out, const T* v_color,
-                                         const T* v_depth, const T* v_alpha) {
+void Rasterizer<T>::accumulate_gradients(const RenderCamera& cam, const RenderResult<T>& out,
+                                         const T* v_color, const T* v_depth, const T* v_alpha) {
   const int n_tiles = tiles_x_ * tiles_y_;
   // Accumulated opacity is 1 - T_final: its gradient enters as dL/dalpha.
   bool simd = false;
@@ -431,7 +428,7 @@ void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const Rende
     if (b == e) return;
     const TileRect rect = tile_rect(tile, cam);
     auto& buf = gather_[static_cast<std::size_t>(t)];
-    gather_tile(tile, buf, g);
+    gather_tile(tile, buf);
     auto& tg = tile_grad_[static_cast<std::size_t>(t)];
     tg.assign(static_cast<std::size_t>(e - b), TileGrad<T>{});
     bool done = false;
@@ -452,8 +449,7 @@ void Rasterizer<T>::accumulate_gradients(const GaussianParams<T>& g, const Rende
                            out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data());
     const int tx = tile % tiles_x_, ty = tile / tiles_x_;
     for (int k = b; k < e; ++k) {
-      const auto slot =
-          static_cast<std::size_t>(visible_slot_[static_cast<std::size_t>(tile_ids_[k])]);
+      const auto slot = static_cast<std::size_t>(tile_ids_[k]);
       const int* r = &slot_tiles_[4 * slot];
       const int local = (ty - r[1]) * (r[2] - r[0] + 1) + (tx - r[0]);
       pair_grad_[static_cast<std::size_t>(slot_pairs_[slot] + local)] =
@@ -507,7 +503,7 @@ template <class T>
 void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam,
                              const RenderResult<T>& out, const T* v_color, const T* v_depth,
                              const T* v_alpha, GaussianParams<T>& grad) {
-  accumulate_gradients(g, cam, out, v_color, v_depth, v_alpha);
+  accumulate_gradients(cam, out, v_color, v_depth, v_alpha);
   const std::size_t n = g.size();
   grad.assign_zero(n);
   for_ranges(n, [&](std::size_t b, std::size_t e) {
@@ -528,7 +524,7 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
 template <class T>
 std::size_t Rasterizer<T>::cache_bytes() const {
   std::size_t bytes = capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.opacity,
-                                     proj_.radius, tile_ids_, visible_slot_, visible_ids_, reach_,
+                                     proj_.radius, tile_ids_, visible_slot_, visible_ids_, packed_,
                                      slot_tiles_, slot_pairs_, pair_grad_, units_, chunk_tile_);
   return bytes;
 }

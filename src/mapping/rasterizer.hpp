@@ -69,13 +69,14 @@ class Rasterizer {
                 const T* v_color, const T* v_depth, const T* v_alpha, GaussianParams<T>& grad);
 
   /// The two halves of backward() for fused optimisers. accumulate_gradients() runs the
-  /// per-pixel reverse pass; gaussian_gradient() then gives Gaussian i's parameter gradients in
-  /// the order mean (3), log-scale (3), quaternion (4), opacity logit, colour (3); zeros when it
-  /// was culled. gaussian_gradient() only reads, so threads may call it for different i.
+  /// per-pixel reverse pass over the last forward()'s Gaussians (their kernel records were
+  /// packed there, colour included: the map must not change in between); gaussian_gradient() then
+  /// gives Gaussian i's parameter gradients in the order mean (3), log-scale (3), quaternion (4),
+  /// opacity logit, colour (3); zeros when it was culled. gaussian_gradient() only reads, so
+  /// threads may call it for different i.
   static constexpr int kParamGrads = 14;
-  void accumulate_gradients(const GaussianParams<T>& g, const RenderCamera& cam,
-                            const RenderResult<T>& out, const T* v_color, const T* v_depth,
-                            const T* v_alpha);
+  void accumulate_gradients(const RenderCamera& cam, const RenderResult<T>& out, const T* v_color,
+                            const T* v_depth, const T* v_alpha);
   void gaussian_gradient(const GaussianParams<T>& g, const RenderCamera& cam, std::size_t i,
                          T out[kParamGrads]) const;
 
@@ -95,9 +96,9 @@ class Rasterizer {
   static constexpr std::int64_t kMaxTilePairs = std::int64_t{1} << 28;
   /// Bytes held by this rasterizer's caches, from the current capacities: projection and
   /// visible slots (per Gaussian), tile lists and backward's gradients (4 + 40 B per
-  /// Gaussian-tile pair in float), kernel reach, tile rectangle and pair offsets (per visible
-  /// Gaussian). Not the per-tile offsets nor the per-thread tile scratch (sized by the fullest
-  /// tile, not by the map).
+  /// Gaussian-tile pair in float), kernel record (52 B in float), tile rectangle and pair
+  /// offsets (per visible Gaussian). Not the per-tile offsets nor the per-thread tile scratch
+  /// (sized by the fullest tile, not by the map).
   [[nodiscard]] std::size_t cache_bytes() const;
   /// True when the last forward used the AVX2 kernels (backward uses them under the same
   /// condition: settings().use_simd, float, and a CPU with AVX2 and FMA).
@@ -106,8 +107,8 @@ class Rasterizer {
  private:
   void project_all(const GaussianParams<T>& g, const RenderCamera& cam, MapBlocks* blocks);
   void number_units();
-  void bin_tiles(const RenderCamera& cam);
-  void gather_tile(int tile, std::vector<TileGaussian<T>>& buf, const GaussianParams<T>& g) const;
+  void bin_tiles(const GaussianParams<T>& g, const RenderCamera& cam);
+  void gather_tile(int tile, std::vector<TileGaussian<T>>& buf) const;
   /// fn(member, item) for every item in [0, n), claimed by whichever member is free.
   void run_claimed(std::size_t n, const std::function<void(int, std::size_t)>& fn);
   [[nodiscard]] TileRect tile_rect(int tile, const RenderCamera& cam) const;
@@ -118,7 +119,7 @@ class Rasterizer {
   Projection<T> proj_;
   int tiles_x_ = 0, tiles_y_ = 0;
   std::vector<int> tile_offsets_;  ///< tiles + 1
-  std::vector<int> tile_ids_;      ///< Gaussian ids per tile, near to far
+  std::vector<int> tile_ids_;      ///< visible slots per tile, near to far
   /// binning: per chunk of slots, its pair count, then its cursor, per tile
   std::vector<int> chunk_tile_;
   std::vector<std::vector<TileGaussian<T>>> gather_;  ///< per thread
@@ -126,8 +127,9 @@ class Rasterizer {
   std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
   int n_visible_ = 0;
   std::vector<int> visible_ids_;  ///< slot -> Gaussian id
-  /// 3 per visible slot: kernel_reach across and down (pixels), and the sigma_cutoff it used
-  std::vector<T> reach_;
+  /// per visible slot: its kernel record (projection, colour, depth, sigma cut, reach), which a
+  /// tile's gather copies per pair
+  std::vector<TileGaussian<T>> packed_;
   std::vector<int> slot_tiles_;  ///< 4 per visible slot: its tiles x0, y0, x1, y1 (inclusive)
   std::vector<int> slot_pairs_;  ///< visible + 1: offsets of each slot's pairs in pair_grad_
   /// backward: per Gaussian-tile pair, grouped by visible slot, row-major tile order within one

@@ -126,7 +126,7 @@ TEST(MappingOptimize, FusedAdamStepEqualsGradientThenStep) {
   GaussianMap grad;
   ras.backward(a, cam, r, vc.data(), nullptr, nullptr, grad);
   adam_a.step(a, grad);
-  ras.accumulate_gradients(b, cam, r, vc.data(), nullptr, nullptr);
+  ras.accumulate_gradients(cam, r, vc.data(), nullptr, nullptr);
   adam_b.step_fused(
       b, [&](std::size_t i, float* g) { ras.gaussian_gradient(b, cam, i, g); },
       [&](std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn) {
