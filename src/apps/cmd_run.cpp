@@ -33,6 +33,7 @@
 #include "io/json_text.hpp"
 #include "io/output_guard.hpp"
 #include "pipeline/live_pipeline.hpp"
+#include "pipeline/progress_line.hpp"
 #include "pipeline/results_writer.hpp"
 #include "sim/mcap_sink.hpp"
 #include "sim/simulator.hpp"
@@ -246,12 +247,8 @@ int run_command(const RunArgs& a) {
                    static_cast<unsigned long long>(p.record_drops));
     else
       std::fputc('\r', stderr);
-    const double rtf = p.elapsed_s > 0 ? p.stream_s / p.elapsed_s : 0;
-    std::fprintf(stderr,
-                 "frames %5llu  rtf %.2f  tracker p50 %.1f / p99 %.1f ms  drops %llu  "
-                 "gaussians %zu   ",
-                 static_cast<unsigned long long>(p.frames), rtf, p.track_p50_ns * 1e-6,
-                 p.track_p99_ns * 1e-6, static_cast<unsigned long long>(p.drops), p.gaussians);
+    // Trailing blanks cover the end of a longer earlier line.
+    std::fprintf(stderr, "%s   ", pipeline::format_progress_line(p).c_str());
   };
   const pipeline::LiveResult r = pipeline::run_live(cfg, o, progress);
   if (tty) std::fputc('\n', stderr);

@@ -249,6 +249,14 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     }
   }
 
+  // The progress line's ETA: a recording's end is known (its frames, or --frames); live has none.
+  std::uint64_t frames_total = 0;
+  if (progress && !o.recording.empty()) {
+    frames_total = RecordingSource::frame_count(o.recording);
+    if (o.max_frames > 0)
+      frames_total = std::min(frames_total, static_cast<std::uint64_t>(o.max_frames));
+  }
+
   // 5. Start: consumers first, sources last.
   publisher.start();
   if (mapper_task) mapper_task->start();
@@ -331,12 +339,14 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     if (progress && now >= next_progress) {
       LiveProgress p;
       p.frames = out.replay.frames.size();
+      p.frames_total = frames_total;
       p.elapsed_s = rt::ns_to_s(now - t_start);
       if (!out.replay.frames.empty())
         p.stream_s = rt::ns_to_s(out.replay.frames.back().t_ns - out.replay.frames.front().t_ns);
       p.track_p50_ns = tracker_task.cycle_time().p50();
       p.track_p99_ns = tracker_task.cycle_time().p99();
       const RecordingSourceCounters sc = source_counters();
+      p.frames_played = sc.frames + sc.frame_drops;
       p.drops = total_drops(status_sources) + sc.frame_drops + sc.imu_drops;
       if (mapper) p.gaussians = mapper->gaussians();
       if (recorder) {

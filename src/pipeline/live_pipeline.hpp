@@ -75,14 +75,17 @@ struct LiveRecordResult {
 };
 
 struct LiveProgress {
-  std::uint64_t frames = 0;
+  std::uint64_t frames = 0;  ///< tracked
+  /// Frames the source has played so far (tracked, skipped or dropped): the ETA's rate.
+  std::uint64_t frames_played = 0;
+  /// A recording: the frames it will play (its frame count, or --frames); 0: live (no end).
+  std::uint64_t frames_total = 0;
   double elapsed_s = 0;
   double stream_s = 0;  ///< sensor time covered
   std::int64_t track_p50_ns = 0, track_p99_ns = 0;
   std::uint64_t drops = 0;  ///< every ring and pool drop
   std::size_t gaussians = 0;
-  double total_stream_s = 0;  ///< recording length (0 live)
-  bool recording = false;     ///< --record: the two below are the recorder's
+  bool recording = false;  ///< --record: the two below are the recorder's
   double record_mb = 0;
   std::uint64_t record_drops = 0;
 };

@@ -5,7 +5,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "io/mcap/mcap_reader.hpp"
 #include "io/recording/recorded_frames.hpp"
+#include "io/recording_topics.hpp"
 #include "pipeline/recorded_motion.hpp"
 #include "rt/clock.hpp"
 
@@ -63,6 +65,23 @@ PinholeCamera RecordingSource::first_camera(const std::string& path, std::int64_
   }
   if (!camera) throw RecordingError(path + ": no RGB-D frames");
   return *camera;
+}
+
+std::uint64_t RecordingSource::frame_count(const std::string& path) {
+  const std::string topic(io::topics::kRgb.name);
+  io::mcap::McapReaderOptions options;
+  options.topics = {topic};
+  io::mcap::McapReader reader(path, options);
+  if (const auto& st = reader.statistics()) {
+    const io::mcap::Channel* channel = reader.find_channel(topic);
+    if (channel == nullptr) return 0;
+    const auto it = st->channel_message_counts.find(channel->id);
+    if (it != st->channel_message_counts.end()) return it->second;
+  }
+  std::uint64_t n = 0;
+  io::mcap::MessageView m;
+  while (reader.next(m)) ++n;
+  return n;
 }
 
 RecordingSource::~RecordingSource() {

@@ -44,6 +44,9 @@ class RecordingSource {
   /// The camera of the recording's first frame (its size sizes the FramePool); throws
   /// RecordingError naming the file when it has no frames.
   static PinholeCamera first_camera(const std::string& path, std::int64_t* first_t_ns = nullptr);
+  /// How many colour frames the recording holds (from its summary's message counts; without
+  /// an intact summary, by scanning the colour topic's messages, not decoding them).
+  static std::uint64_t frame_count(const std::string& path);
 
   RecordingSource(const RecordingSourceSettings& s, rt::FramePool& pool,
                   rt::SpscRing<rt::FrameHandle>& frames, rt::SpscRing<ImuSample>& imu);
