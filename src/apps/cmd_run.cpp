@@ -12,8 +12,10 @@
 //  - --source live (with --config ROBOT.yaml): the robot's OpenNI2 camera and serial IMU;
 //  - --record F.mcap (with the drivers: live, the default, --through-drivers): also record the
 //    drivers' taps and the tracker's poses (src/record), F.mcap.partial until a normal stop.
-// SIGINT / SIGTERM: the rings are drained and the RESULTS_DIR written whole (atomically), exit 0;
-// a second signal exits at once (what was already renamed into place stays complete).
+// SIGINT / SIGTERM: the rings are drained and the RESULTS_DIR written whole (report.md and plots
+// included, all in one temporary folder swapped into place), exit 0; a second signal exits at
+// once, and RESULTS_DIR is then this run's whole folder or what it was before (absent, or an
+// earlier run whole), never a part.
 #include <signal.h>
 #include <unistd.h>
 
@@ -22,6 +24,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -255,7 +258,31 @@ int run_command(const RunArgs& a) {
   if (r.replay.frames.empty()) throw std::runtime_error("no frame was tracked");
 
   const io::Json stats = live_stats(r, o.recording, mode);
-  pipeline::write_results_dir(a.out, r.replay, io::json_lines(stats) + "\n");
+  // report.md and its plots go into the temporary folder too, before the one swap: a second
+  // signal while the report is drawn leaves RESULTS_DIR as it was (absent, or an earlier run
+  // whole), never a new one without its report. A report that fails leaves the rest of the
+  // folder (and none of the report), then fails the command as before.
+  std::optional<eval::ReportResult> report;
+  std::string report_error;
+  const auto write_report_into = [&](const std::filesystem::path& tmp) {
+    if (o.recording.empty() || a.no_report) return;
+    eval::ReportOptions ro;
+    ro.results_dir = tmp.string();
+    ro.shown_dir = a.out;
+    ro.gt_path = o.recording;
+    ro.T_b_c = sim::body_from_camera(cfg.extrinsics);
+    ro.render = false;  // PSNR/SSIM renders: `vigs eval run` on the folder
+    try {
+      report = eval::write_report(ro);
+    } catch (const std::exception& e) {
+      report_error = e.what();
+      std::error_code ec;
+      std::filesystem::remove(tmp / "report.md", ec);
+      std::filesystem::remove_all(tmp / "plots", ec);
+    }
+  };
+  pipeline::write_results_dir(a.out, r.replay, io::json_lines(stats) + "\n", write_report_into);
+  if (!report_error.empty()) throw std::runtime_error("report.md: " + report_error);
   io::Json summary{{"out", a.out},
                    {"mode", mode},
                    {"frames", r.replay.frames.size()},
@@ -268,15 +295,9 @@ int run_command(const RunArgs& a) {
     summary["record"] = r.record->file;
     summary["record_tap_drops"] = r.record->tap_drops();
   }
-  if (!o.recording.empty() && !a.no_report) {
-    eval::ReportOptions ro;
-    ro.results_dir = a.out;
-    ro.gt_path = o.recording;
-    ro.T_b_c = sim::body_from_camera(cfg.extrinsics);
-    ro.render = false;  // PSNR/SSIM renders: `vigs eval run` on the folder
-    const eval::ReportResult rep = eval::write_report(ro);
-    for (const auto& w : rep.warnings) std::cerr << "vigs run: " << w << "\n";
-    summary["ate_rmse_m"] = io::rounded(rep.ate.stats.rmse, 4);
+  if (report) {
+    for (const auto& w : report->warnings) std::cerr << "vigs run: " << w << "\n";
+    summary["ate_rmse_m"] = io::rounded(report->ate.stats.rmse, 4);
   }
   std::printf("%s\n", io::json_line(summary).c_str());
   if (!quiet) {

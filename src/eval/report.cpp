@@ -71,35 +71,32 @@ std::vector<std::string> draw_plots(const ReportOptions& opt, const ReportResult
   write_text((dir / "ate_over_time.dat").string(), err);
   const std::string top_png = (dir / "trajectory_top.png").string();
   const std::string err_png = (dir / "ate_over_time.png").string();
+  // The script names its files relative to its own folder and gnuplot runs there, so it
+  // still draws them after a staging folder is renamed into place (`cd plots; gnuplot
+  // plots.gp`).
   std::string script =
-      "set terminal pngcairo size 900,800 font 'sans,11'\n"
-      "set output '" +
-      top_png +
-      ".tmp'\n"
-      "set title 'Trajectory, top view (estimate aligned " +
+      std::string(
+          "set terminal pngcairo size 900,800 font 'sans,11'\n"
+          "set output 'trajectory_top.png.tmp'\n"
+          "set title 'Trajectory, top view (estimate aligned ") +
       alignment_name(opt.ate.align) + ")'\nset xlabel '" + names[ax] + " [m]'\nset ylabel '" +
       names[ay] +
       " [m]'\nset size ratio -1\nset grid\nset key outside "
       "bottom center horizontal\n"
-      "plot '" +
-      (dir / "trajectory_top.dat").string() +
-      "' using 1:2 with lines lw 2 lc rgb '#303030' title 'ground truth', '' using 3:4 with "
+      "plot 'trajectory_top.dat' using 1:2 with lines lw 2 lc rgb '#303030' title 'ground truth', "
+      "'' using 3:4 with "
       "lines lw 1.5 lc rgb '#d03020' title 'estimate'\n"
       "set output\n"
       "set terminal pngcairo size 1000,450 font 'sans,11'\n"
-      "set output '" +
-      err_png +
-      ".tmp'\n"
+      "set output 'ate_over_time.png.tmp'\n"
       "set size noratio\nset title 'Absolute trajectory error over time (RMSE " +
       fmt("%.4f", r.ate.stats.rmse) +
       " m)'\nset xlabel 'time [s]'\nset ylabel 'error [m]'\nset key off\n"
-      "plot '" +
-      (dir / "ate_over_time.dat").string() +
-      "' using 1:2 with lines lc rgb '#2060c0'\n"
+      "plot 'ate_over_time.dat' using 1:2 with lines lc rgb '#2060c0'\n"
       "set output\n";
   const std::string script_path = (dir / "plots.gp").string();
   write_text(script_path, script);
-  const std::string why = run_gnuplot(script_path, (dir / "gnuplot.log").string());
+  const std::string why = run_gnuplot(script_path, (dir / "gnuplot.log").string(), dir.string());
   if (!why.empty()) {
     warnings.push_back("plots not drawn: " + why);
     return {};
@@ -254,7 +251,9 @@ ReportResult write_report(const ReportOptions& opt) {
   }
 
   std::string md = "# VIGS evaluation report\n\n";
-  md += "- results: `" + opt.results_dir + "`\n- estimate: `" + est_path + "` (" +
+  const std::string shown_dir = opt.shown_dir.empty() ? opt.results_dir : opt.shown_dir;
+  md += "- results: `" + shown_dir + "`\n- estimate: `" +
+        (fs::path(shown_dir) / opt.estimate_name).string() + "` (" +
         (opt.estimate_is_camera ? "camera poses T_w_c; ground truth body poses moved to the "
                                   "camera with T_b_c"
                                 : "body poses T_w_b") +

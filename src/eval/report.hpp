@@ -21,6 +21,9 @@ namespace vigs::eval {
 
 struct ReportOptions {
   std::string results_dir;
+  /// The RESULTS_DIR report.md names (empty: results_dir): where the folder will be when
+  /// results_dir is a temporary one renamed into place after the report (`vigs run`).
+  std::string shown_dir;
   std::string gt_path;                           ///< .mcap (ground-truth topic) or TUM/KITTI
   std::string estimate_name = "trajectory.tum";  ///< inside results_dir
   /// The estimate is of the camera (T_w_c): ground-truth body poses become camera poses

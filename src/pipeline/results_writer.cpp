@@ -24,11 +24,13 @@ double peak_rss_bytes() {
   return static_cast<double>(ru.ru_maxrss) * 1024.0;  // Linux: kilobytes
 }
 
-void write_results_dir(const std::string& dir, const ReplayResult& r,
-                       const std::string& stats_json) {
-  io::replace_dir_atomically(
-      dir, pipeline::kTrajectoryFile,
-      [&](const std::filesystem::path& root) { write_results_files(root, r, stats_json); });
+void write_results_dir(const std::string& dir, const ReplayResult& r, const std::string& stats_json,
+                       const std::function<void(const std::filesystem::path& tmp)>& also) {
+  io::replace_dir_atomically(dir, pipeline::kTrajectoryFile,
+                             [&](const std::filesystem::path& root) {
+                               write_results_files(root, r, stats_json);
+                               if (also) also(root);
+                             });
 }
 
 void write_results_files(const std::filesystem::path& root, const ReplayResult& r,

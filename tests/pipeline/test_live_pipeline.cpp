@@ -2,6 +2,8 @@
 // (240x160): lockstep gives exactly `vigs replay`'s trajectory, twice; real time tracks every
 // frame it keeps and counts what it skips; a subscriber in a second process (`vigs echo`)
 // receives every published pose in order with the frames' stamps; a stop request drains.
+// `vigs run`'s RESULTS_DIR (issue #14 item 7): SIGTERM saves it whole with its report; a reused
+// folder keeps no earlier file; a second signal exits at once and leaves it whole or absent.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -10,12 +12,17 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "../dds/process.hpp"
 #include "../dds/shm_janitor.hpp"
+#include "eval/trajectory_file.hpp"
+#include "io/json_text.hpp"
+#include "mapping/ply_io.hpp"
 #include "pipeline/live_pipeline.hpp"
 #include "sim_sequence.hpp"
 
@@ -43,6 +50,68 @@ testing::TempDir* LivePipeline::dir_ = nullptr;
 
 bool same_pose(const geometry::Pose& a, const geometry::Pose& b) {
   return a.matrix() == b.matrix();  // bit-identical, not approximately equal
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+/// Every file of a `vigs run` RESULTS_DIR is there and reads whole: trajectory.tum parses,
+/// stats.json parses and counts its poses, map.ply reads (mapping on), report.md names the
+/// folder itself (not the temporary one it was written in) when `report`.
+void expect_whole_results(const std::string& out, bool map, bool report) {
+  SCOPED_TRACE(out);
+  const eval::Trajectory tum = eval::load_trajectory_file(out + "/trajectory.tum");
+  EXPECT_GT(tum.poses.size(), 0u);
+  const io::Json stats = io::Json::parse(read_text(out + "/stats.json"));
+  EXPECT_EQ(stats.at("frames").get<std::size_t>(), tum.poses.size())
+      << "stats.json frames and trajectory.tum poses differ";
+  EXPECT_EQ(std::filesystem::exists(out + "/map.ply"), map);
+  if (map) {
+    EXPECT_NO_THROW(mapping::read_gaussian_ply(out + "/map.ply"));
+  }
+  EXPECT_EQ(std::filesystem::exists(out + "/report.md"), report);
+  if (report && std::filesystem::exists(out + "/report.md")) {
+    const std::string md = read_text(out + "/report.md");
+    EXPECT_EQ(md.rfind("# VIGS evaluation report", 0), 0u) << md;
+    EXPECT_NE(md.find("- results: `" + out + "`"), std::string::npos) << md;
+    EXPECT_NE(md.find("## Not measured in this report"), std::string::npos) << md;
+  }
+}
+
+/// No hidden ".NAME.tmp-*" staging folder is left beside RESULTS_DIR `out`.
+void expect_no_staging_left(const std::string& out) {
+  const std::filesystem::path p(out);
+  const std::string prefix = "." + p.filename().string() + ".tmp-";
+  for (const auto& e : std::filesystem::directory_iterator(p.parent_path()))
+    EXPECT_NE(e.path().filename().string().rfind(prefix, 0), 0u) << e.path();
+}
+
+/// Sends `sig` to `pid`; a process already gone (or a zombie) is not an error here.
+void signal_child(pid_t pid, int sig) {
+  (void)::kill(pid, sig);
+}
+
+/// Waits (up to `timeout`) until `sig` is no longer pending for process `pid` (/proc ShdPnd):
+/// its handler has taken it, so a second one is delivered on its own, not merged into it.
+bool wait_signal_taken(pid_t pid, int sig, std::chrono::milliseconds timeout) {
+  const auto give_up = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    bool pending = false;
+    while (std::getline(status, line))
+      if (line.rfind("ShdPnd:", 0) == 0)
+        pending = (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1u;
+    if (!pending) return true;
+    if (std::chrono::steady_clock::now() > give_up) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
 }
 
 TEST_F(LivePipeline, LockstepEqualsReplayAndRepeats) {
@@ -210,23 +279,97 @@ TEST_F(LivePipeline, SubscriberInAnotherProcessGetsEveryPoseInOrder) {
 TEST_F(LivePipeline, SigtermMidRunLeavesCompleteResults) {
   const dds::test::ShmJanitor janitor;
   const std::string out = dir_->file("results_sigterm");
+  // With the report: it is drawn into the staging folder, so it is saved on a signal too.
   dds::test::ChildProcess run({VIGS_BIN, "run", "--source", "replay:" + recording(), "--out", out,
-                               "--dds-domain", "172", "--quiet", "--no-report"},
+                               "--dds-domain", "172", "--quiet"},
                               {}, /*merge_stderr=*/true);
   std::this_thread::sleep_for(std::chrono::milliseconds(2500));
   ASSERT_EQ(::kill(run.pid(), SIGTERM), 0);
   ASSERT_EQ(run.wait(std::chrono::seconds(30)), 0) << run.output();
-  std::ifstream tum(out + "/trajectory.tum");
-  std::string line;
-  std::size_t poses = 0;
-  while (std::getline(tum, line)) poses += !line.empty() && line[0] != '#';
-  EXPECT_GT(poses, 0u);
-  std::ifstream stats(out + "/stats.json");
-  const std::string text((std::istreambuf_iterator<char>(stats)), std::istreambuf_iterator<char>());
-  EXPECT_NE(text.find("\"stopped_by_signal\": true"), std::string::npos) << text;
-  EXPECT_TRUE(std::filesystem::exists(out + "/map.ply"));
-  EXPECT_EQ(text.find("\"frames\": " + std::to_string(poses)) == std::string::npos, false)
-      << "stats.json frames and trajectory.tum poses differ";
+  expect_whole_results(out, /*map=*/true, /*report=*/true);
+  const std::string stats = read_text(out + "/stats.json");
+  EXPECT_NE(stats.find("\"stopped_by_signal\": true"), std::string::npos) << stats;
+  EXPECT_NE(run.output().find("\"ate_rmse_m\""), std::string::npos) << run.output();
+  expect_no_staging_left(out);
+}
+
+TEST_F(LivePipeline, RunIntoAReusedFolderLeavesNoStaleFile) {
+  const dds::test::ShmJanitor janitor;
+  const std::string out = dir_->file("results_reused");
+  const auto earlier_run = [&] {
+    std::filesystem::create_directories(out + "/plots");
+    for (const char* name :
+         {"trajectory.tum", "map.ply", "report.md", "plots/ate.png", "from_an_earlier_run.txt"})
+      write_text(out + "/" + name, "stale");
+  };
+  const auto vigs_run = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> argv{
+        VIGS_BIN,   "run",      "--source", "replay:" + recording(), "--lockstep",
+        "--no-map", "--frames", "20",       "--dds-domain",          "173",
+        "--quiet",  "--out",    out};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    dds::test::ChildProcess run(argv, {}, /*merge_stderr=*/true);
+    EXPECT_EQ(run.wait(std::chrono::seconds(60)), 0) << run.output();
+  };
+  // With the report: a new report.md and plots, nothing of the earlier run's.
+  earlier_run();
+  vigs_run({});
+  expect_whole_results(out, /*map=*/false, /*report=*/true);
+  EXPECT_NE(read_text(out + "/trajectory.tum"), "stale");
+  EXPECT_NE(read_text(out + "/report.md"), "stale");
+  for (const char* name : {"map.ply", "plots/ate.png", "from_an_earlier_run.txt"})
+    EXPECT_FALSE(std::filesystem::exists(out + "/" + name)) << name;
+  expect_no_staging_left(out);
+  // --no-report: not even an earlier report stays.
+  earlier_run();
+  vigs_run({"--no-report"});
+  expect_whole_results(out, /*map=*/false, /*report=*/false);
+  for (const char* name : {"map.ply", "report.md", "plots", "from_an_earlier_run.txt"})
+    EXPECT_FALSE(std::filesystem::exists(out + "/" + name)) << name;
+  expect_no_staging_left(out);
+}
+
+TEST_F(LivePipeline, TwoQuickSignalsExitAtOnceAndLeaveNoPartialFolder) {
+  const dds::test::ShmJanitor janitor;
+  const std::string out = dir_->file("results_two_signals");
+  dds::test::ChildProcess run({VIGS_BIN, "run", "--source", "replay:" + recording(), "--out", out,
+                               "--dds-domain", "174", "--quiet"},
+                              {}, /*merge_stderr=*/true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(::kill(run.pid(), SIGTERM), 0);
+  // The second once the first was taken (else the kernel merges the two), while the first's
+  // drain and save (about half a second here) still run.
+  ASSERT_TRUE(wait_signal_taken(run.pid(), SIGTERM, std::chrono::seconds(5)));
+  signal_child(run.pid(), SIGTERM);
+  const auto t0 = std::chrono::steady_clock::now();
+  const int status = run.wait(std::chrono::seconds(10));
+  const auto waited_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
+          .count();
+  EXPECT_EQ(status, 128 + SIGTERM) << run.output();  // the handler's _exit, no save
+  EXPECT_LT(waited_ms, 1000);
+  if (std::filesystem::exists(out)) expect_whole_results(out, /*map=*/true, /*report=*/true);
+}
+
+TEST_F(LivePipeline, SecondSignalAsTheFolderAppearsFindsItWhole) {
+  // The second signal is sent the moment RESULTS_DIR exists: whatever the process still had to
+  // write then is lost, so the folder must have been complete (report.md and plots included)
+  // when it appeared.
+  const dds::test::ShmJanitor janitor;
+  const std::string out = dir_->file("results_second_signal");
+  dds::test::ChildProcess run({VIGS_BIN, "run", "--source", "replay:" + recording(), "--out", out,
+                               "--dds-domain", "175", "--quiet"},
+                              {}, /*merge_stderr=*/true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(::kill(run.pid(), SIGTERM), 0);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!std::filesystem::exists(out) && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  ASSERT_TRUE(std::filesystem::exists(out)) << run.output();
+  signal_child(run.pid(), SIGTERM);
+  const int status = run.wait(std::chrono::seconds(10));
+  EXPECT_TRUE(status == 128 + SIGTERM || status == 0) << status << "\n" << run.output();
+  expect_whole_results(out, /*map=*/true, /*report=*/true);
 }
 
 }  // namespace
