@@ -12,8 +12,8 @@
 
 #include "dds/dds_config.hpp"
 #include "dds/pose_publisher.hpp"
-#include "drivers/openni2/openni2_driver.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
+#include "pipeline/live_camera.hpp"
 #include "pipeline/live_mapper.hpp"
 #include "pipeline/live_status.hpp"
 #include "pipeline/replay_figures.hpp"
@@ -51,8 +51,7 @@ record::RecordedPose recorded_pose(const LiveFrameResult& r, std::uint64_t index
 // snapshots of their counters (noexcept, no allocation or lock), read on the tracker thread.
 class DriverFaultTotals final : public DriverFaultCounts {
  public:
-  DriverFaultTotals(const drivers::Openni2Driver* camera,
-                    const drivers::SerialImuDriver* imu) noexcept
+  DriverFaultTotals(const LiveCamera* camera, const drivers::SerialImuDriver* imu) noexcept
       : camera_(camera), imu_(imu) {}
   [[nodiscard]] std::uint64_t imu_corrupt() const noexcept override {
     if (imu_ == nullptr) return 0;
@@ -60,11 +59,11 @@ class DriverFaultTotals final : public DriverFaultCounts {
     return f.bad_checksum + f.resync_bytes_skipped + f.oversize_length + f.malformed_payload;
   }
   [[nodiscard]] std::uint64_t camera_losses() const noexcept override {
-    return camera_ != nullptr ? camera_->counters().losses : 0;
+    return camera_ != nullptr ? camera_->losses() : 0;
   }
 
  private:
-  const drivers::Openni2Driver* camera_;
+  const LiveCamera* camera_;
   const drivers::SerialImuDriver* imu_;
 };
 
@@ -141,7 +140,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   // through those same drivers (DriverReplay: an .oni clip and a pty stand in for the sensors).
   std::unique_ptr<RecordingSource> recording;
   std::unique_ptr<DriverReplay> replay;
-  std::unique_ptr<drivers::Openni2Driver> camera_driver;
+  std::unique_ptr<LiveCamera> camera_driver;  // OpenNI2 or V4L2 (+ the GPIO trigger)
   std::unique_ptr<drivers::SerialImuDriver> imu_driver;
   if (!o.recording.empty() && !o.through_drivers) {
     recording = std::make_unique<RecordingSource>(
@@ -155,7 +154,6 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   } else {
     if (o.lockstep)
       throw std::runtime_error("--lockstep needs a recording played without the drivers");
-    drivers::Openni2DriverSettings cam = drivers::openni2_settings(cfg.camera, rtc);
     drivers::SerialImuDriverSettings ims = drivers::serial_imu_settings(cfg.imu, rtc);
     if (o.through_drivers) {
       replay = std::make_unique<DriverReplay>(
@@ -163,6 +161,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
                                .max_frames = o.max_frames,
                                .faults = o.driver_faults,
                                .feeder_thread = table_spec("sensor_replay", rtc)});
+      drivers::Openni2DriverSettings cam = drivers::openni2_settings(cfg.camera, rtc);
       cam.uri = replay->clip_path();
       cam.width_px = static_cast<std::uint32_t>(camera.width_px);
       cam.height_px = static_cast<std::uint32_t>(camera.height_px);
@@ -177,10 +176,12 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       ims.port = replay->imu_port();
       ims.protocol = "xsens_mt";
       ims.stamper.nominal_rate_hz = replay->imu_rate_hz();
-    } else if (cfg.camera.driver != "openni2" || cfg.imu.driver != "serial") {
-      throw std::runtime_error("live sensors need camera.driver openni2 and imu.driver serial");
+      camera_driver = LiveCamera::openni2(cam, pool, frames);
+    } else {
+      if (cfg.imu.driver != "serial")
+        throw std::runtime_error("live sensors need imu.driver serial");
+      camera_driver = LiveCamera::robot(cfg, pool, frames, o.camera_seams);  // openni2 or v4l2
     }
-    camera_driver = std::make_unique<drivers::Openni2Driver>(cam, pool, frames);
     imu_driver = std::make_unique<drivers::SerialImuDriver>(ims, imu);
     if (recorder) {  // each driver also feeds the recorder's tap (full: drop newest, count)
       camera_driver->set_tap(&taps->frames);
@@ -264,8 +265,8 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   if (recorder) recorder->start();  // the file exists before any driver runs
   if (recording) recording->start();
   if (imu_driver) imu_driver->start();
-  if (camera_driver) camera_driver->start();
-  if (replay) replay->start(*camera_driver);  // the IMU follows the camera's clock anchor
+  if (camera_driver) camera_driver->start();                    // its trigger (gpio_trigger) first
+  if (replay) replay->start(*camera_driver->openni2_driver());  // the IMU: the clip's clock
 
   // 6. Run: collect results, status at 1 Hz, progress at 2 Hz, until the end or a stop.
   const std::int64_t t_start = rt::monotonic_ns();
@@ -366,7 +367,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   // At the clip's end the feeder still owes the IMU samples past the last frame, and the IMU
   // driver the bytes still in the pty: both are let finish (bounded) before they stop.
   if (replay) replay->finish(ended ? rt::ms_to_ns(250) : 0);
-  if (camera_driver) camera_driver->stop();
+  if (camera_driver) camera_driver->stop();  // then its trigger
   if (imu_driver && replay && ended) {
     const std::uint64_t sent = replay->counters().imu_samples_written;
     (void)rt::poll_until(
@@ -421,7 +422,11 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   r.imu_samples_fed = out.tracker.imu_samples;
   out.source = source_counters();
   if (recording) r.imu_samples = out.source.imu_samples;
-  if (camera_driver) out.camera_driver = camera_driver->counters();
+  if (camera_driver) {
+    out.camera_driver = camera_driver->counters();
+    out.trigger = camera_driver->trigger_counters();
+    out.trigger_match = camera_driver->trigger_match_counters();
+  }
   if (imu_driver) out.imu_driver = imu_driver->faults();
   // The poses published live stay as tracked; corrected in the tracker's clock, as its keyframes.
   if (tracking::LoopCloser* lc = mapper ? mapper->loop_closer() : nullptr) {

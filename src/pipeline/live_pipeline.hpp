@@ -3,8 +3,9 @@
 // mapper tasks -> DDS publisher. live_pipeline.cpp is the spine: read it top to bottom.
 //
 // Threads (rt/thread_table.hpp, with rt.realtime_priorities / rt.pin_cpus applied):
-//   rgbd_driver, imu_driver  the sources: the robot's OpenNI2 camera and serial IMU, or an MCAP
-//                            recording played into the same rings (RecordingSource), or
+//   rgbd_driver, imu_driver  the sources: the robot's camera (camera.driver openni2 or v4l2:
+//                            live_camera.hpp) and serial IMU, or an MCAP recording played
+//                            into the same rings (RecordingSource), or
 //                            (through_drivers) that recording as an .oni clip and Xsens bytes
 //                            on a pty read by the same two real drivers (DriverReplay, with
 //                            its feeder thread); results then in the recording's clock
@@ -16,7 +17,8 @@
 //   recorder                 with record_path: record::Recorder draining its own tap ring from
 //                            each driver (frames, IMU samples, the serial port's raw bytes) and
 //                            the poses the main thread collects, into a crash-safe MCAP
-// gpio_trigger belongs to `vigs record` (and is not started here).
+//   gpio_trigger             live, with camera.trigger_chip: the camera's frame-sync edges,
+//                            which restamp its frames (LiveCamera: GpioTrigger, TriggerMatcher)
 // Rings: frames (FramePool handles; capacity the largest power of two <= rt.frame_pool_slots
 // - 4, so a slot is always left for the driver, the tracker and the mapper's keyframes), IMU
 // (rt.imu_ring_capacity), poses (256), results (1024), keyframes (KeyframeHandoff, 2 slots).
@@ -34,8 +36,11 @@
 
 #include "core/config/robot_config.hpp"
 #include "drivers/common/rgbd_driver_counters.hpp"
+#include "drivers/common/trigger_matcher.hpp"
+#include "drivers/gpio_trigger/gpio_trigger.hpp"
 #include "drivers/serial_imu/serial_imu_faults.hpp"
 #include "pipeline/driver_replay.hpp"
+#include "pipeline/live_camera.hpp"
 #include "pipeline/live_tracker.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/recording_source.hpp"
@@ -60,6 +65,9 @@ struct LiveOptions {
   /// recording through_drivers). Written as PATH.partial (crash-safe, chunked: a kill leaves a
   /// readable prefix there) and renamed onto PATH once the recorder has closed it.
   std::string record_path;
+  /// Live: the camera's kernel seams (tests: a fake V4L2 device, a pipe of GPIO events); the
+  /// defaults are the real ones.
+  LiveCameraSeams camera_seams;
 };
 
 /// `vigs run --record`: what the recorder wrote and what its taps dropped (full tap: the
@@ -100,9 +108,11 @@ struct LiveResult {
   LiveTrackerCounters tracker;
   std::vector<std::uint32_t> pose_flags;  ///< PoseFlags of each published pose (replay.frames)
   RecordingSourceCounters source;         ///< through_drivers: from the drivers' counters
-  std::optional<drivers::RgbdDriverCounters> camera_driver;  ///< live, through_drivers
-  std::optional<drivers::SerialImuFaults> imu_driver;        ///< live, through_drivers
-  DriverReplayCounters feeder;                               ///< through_drivers
+  std::optional<drivers::RgbdDriverCounters> camera_driver;    ///< live, through_drivers
+  std::optional<drivers::SerialImuFaults> imu_driver;          ///< live, through_drivers
+  std::optional<drivers::GpioTriggerCounters> trigger;         ///< live with camera.trigger_chip
+  std::optional<drivers::TriggerMatchCounters> trigger_match;  ///< ditto: frames to edges
+  DriverReplayCounters feeder;                                 ///< through_drivers
   /// through_drivers: host CLOCK_MONOTONIC minus recording time. The published poses carry
   /// host stamps; `replay.frames` were mapped back to the recording's clock with it.
   std::int64_t host_minus_recording_ns = 0;

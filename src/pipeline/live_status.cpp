@@ -79,6 +79,10 @@ dds::StatusSnapshot make_status_snapshot(const LiveStatusSources& s, std::int64_
     add_fault(st, "camera.losses", d.losses);
     add_fault(st, "camera.reopens", d.reopens);
     add_fault(st, "camera.ring_drops", d.dropped_ring_full + d.dropped_pool_empty);
+    if (const auto m = s.camera->trigger_match_counters()) {  // frame sync
+      add_fault(st, "trigger.frames_without_edge", m->frames_without_edge);
+      add_fault(st, "trigger.edges_without_frame", m->edges_without_frame);
+    }
   }
   return st;
 }

@@ -6,8 +6,8 @@
 #include "core/types/imu_sample.hpp"
 #include "core/types/pose_sample.hpp"
 #include "dds/status_snapshot.hpp"
-#include "drivers/openni2/openni2_driver.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
+#include "pipeline/live_camera.hpp"
 #include "pipeline/live_mapper.hpp"
 #include "pipeline/live_tracker.hpp"
 #include "pipeline/pose_quality.hpp"
@@ -25,7 +25,7 @@ struct LiveStatusSources {
   const rt::SpscRing<rt::FrameHandle>* frames = nullptr;
   const rt::SpscRing<ImuSample>* imu = nullptr;
   const rt::SpscRing<PoseSample>* poses = nullptr;
-  const drivers::Openni2Driver* camera = nullptr;  ///< the drivers, when they run
+  const LiveCamera* camera = nullptr;  ///< the drivers, when they run
   const drivers::SerialImuDriver* imu_driver = nullptr;
   /// The poses' sources and flags (the main thread's count): tracking_state and the
   /// tracker.poses_* faults; null: tracking_state from the frame count alone.
