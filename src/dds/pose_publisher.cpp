@@ -105,11 +105,10 @@ PosePublisher::~PosePublisher() {
   stop();
 }
 
-void PosePublisher::start() {
+void PosePublisher::start(const rt::ThreadSpec& spec) {
   if (task_) throw std::logic_error("PosePublisher::start called twice");
   task_ = std::make_unique<rt::PeriodicTask>(
-      rt::thread_spec("dds_pub"),
-      [this](const rt::PeriodicTask::Cycle& c) { run_cycle(c.wake_ns); });
+      spec, [this](const rt::PeriodicTask::Cycle& c) { run_cycle(c.wake_ns); });
   task_->start();
 }
 

@@ -34,6 +34,7 @@
 #include "rt/overwrite_ring.hpp"
 #include "rt/periodic_task.hpp"
 #include "rt/spsc_ring.hpp"
+#include "rt/thread_table.hpp"
 
 namespace vigs::dds {
 
@@ -61,8 +62,9 @@ class PosePublisher {
   PosePublisher(const PosePublisher&) = delete;
   PosePublisher& operator=(const PosePublisher&) = delete;
 
-  /// Starts the `dds_pub` thread. Once.
-  void start();
+  /// Starts the `dds_pub` thread as `spec` says (the pipeline passes the table's entry after
+  /// its rt: policy, so `realtime_priorities: false` and `pin_cpus: false` reach it too). Once.
+  void start(const rt::ThreadSpec& spec = rt::thread_spec("dds_pub"));
   /// Stops the thread after one last drain. Idempotent.
   void stop();
 

@@ -259,7 +259,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
   }
 
   // 5. Start: consumers first, sources last.
-  publisher.start();
+  publisher.start(table_spec("dds_pub", rtc));
   if (mapper_task) mapper_task->start();
   tracker_task.start();
   if (recorder) recorder->start();  // the file exists before any driver runs
@@ -411,6 +411,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     out.tracker_worker = w->spec();
     out.tracker_worker_status = w->status();
   }
+  if (const rt::PeriodicTask* p = publisher.task()) out.publisher_thread = p->spec();
   r.camera = camera;
   r.guess = cfg.tracking.initial_guess;
   (void)parse_fusion_mode(cfg.tracking.fusion, r.fusion);  // checked by the config loader

@@ -137,6 +137,8 @@ struct LiveResult {
   /// team of one): its spec after rt: and what the OS applied.
   std::optional<rt::ThreadSpec> tracker_worker;
   rt::ThreadApplyStatus tracker_worker_status;
+  /// The DDS publisher thread's spec after rt: (unset: the publisher never started).
+  std::optional<rt::ThreadSpec> publisher_thread;
   bool stopped_by_signal = false;
   std::optional<LiveRecordResult> record;  ///< with record_path
 };
