@@ -9,7 +9,8 @@
 //  - --source replay:F.mcap: that recording, played straight into the rings in real time, or
 //    with --through-drivers as the default is; --lockstep: straight into the rings, nothing
 //    drops, same result twice;
-//  - --source live (with --config ROBOT.yaml): the robot's OpenNI2 camera and serial IMU;
+//  - --source live (with --config ROBOT.yaml): the robot's OpenNI2 camera and serial IMU; the
+//    source without --source when the robot's camera.driver is a device (not replay);
 //  - --record F.mcap (with the drivers: live, the default, --through-drivers): also record the
 //    drivers' taps and the tracker's poses (src/record), F.mcap.partial until a normal stop.
 // SIGINT / SIGTERM: the rings are drained and the RESULTS_DIR written whole (report.md and plots
@@ -52,7 +53,7 @@ extern "C" void on_run_stop_signal(int sig) {
 }
 
 struct RunArgs {
-  std::string source = "default", config_file, out = "results", record;
+  std::string source, config_file, out = "results", record;  // source "": from the config
   bool lockstep = false, no_map = false, quiet = false, no_report = false;
   bool through_drivers = false;
   std::int64_t frames = 0;
@@ -182,19 +183,23 @@ int run_command(const RunArgs& a) {
   o.stop = &g_run_signal;
   o.wait_for_subscribers = a.wait_subscribers;
   std::string mode;
-  if (a.source == "default") {
+  // Without --source: a robot file whose camera is a device (camera.driver openni2 or v4l2)
+  // runs its live sensors; the built-in default and sim robots (driver replay) the default job.
+  const std::string source =
+      !a.source.empty() ? a.source : (cfg.camera.driver == "replay" ? "default" : "live");
+  if (source == "default") {
     o.recording = default_sequence(cfg, a, quiet);
     mode = "default";
     o.through_drivers = !a.lockstep;  // the main job: through the real drivers
-  } else if (a.source.rfind("replay:", 0) == 0) {
-    o.recording = a.source.substr(7);
+  } else if (source.rfind("replay:", 0) == 0) {
+    o.recording = source.substr(7);
     if (o.recording.empty()) throw std::runtime_error("--source replay: needs a file");
     mode = "replay";
-  } else if (a.source == "live") {
+  } else if (source == "live") {
     mode = "live";
   } else {
-    throw std::runtime_error("--source must be default, live or replay:FILE.mcap, not '" +
-                             a.source + "'");
+    throw std::runtime_error("--source must be default, live or replay:FILE.mcap, not '" + source +
+                             "'");
   }
   if (a.through_drivers) {
     if (o.recording.empty()) throw std::runtime_error("--through-drivers needs a recording");
@@ -325,7 +330,8 @@ void add_run_command(CLI::App& app, ExitCode& exit_code) {
   static RunArgs a;
   cmd->add_option("--source", a.source,
                   "default (simulated office, cached), live (the robot's sensors), or "
-                  "replay:FILE.mcap");
+                  "replay:FILE.mcap; without it: live when --config names a robot whose "
+                  "camera.driver is a device (openni2, v4l2), else default");
   cmd->add_option("--config", a.config_file, "robot YAML (default: built-in)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", a.out, "RESULTS_DIR to write (default: results)");

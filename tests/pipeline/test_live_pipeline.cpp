@@ -198,6 +198,16 @@ TEST_F(LivePipeline, TrackerTeamWorkerRunsAsTheThreadTableSays) {
       << r.tracker_worker_status.describe();
   // rt.realtime_priorities is off here: the table's priority is not asked for.
   EXPECT_EQ(r.tracker_worker->sched_fifo_priority, 0);
+  // The DDS publisher's thread follows rt: too (pinned as the table says, no priority), and
+  // with rt.pin_cpus off it is not pinned.
+  ASSERT_TRUE(r.publisher_thread.has_value());
+  EXPECT_EQ(r.publisher_thread->name.view(), "dds_pub");
+  EXPECT_EQ(r.publisher_thread->cpu, rt::thread_spec("dds_pub").cpu);
+  EXPECT_EQ(r.publisher_thread->sched_fifo_priority, 0);
+  cfg.rt.pin_cpus = false;
+  const LiveResult unpinned = run_live(cfg, o);
+  ASSERT_TRUE(unpinned.publisher_thread.has_value());
+  EXPECT_EQ(unpinned.publisher_thread->cpu, -1);
 }
 
 TEST_F(LivePipeline, RealTimeKeepsOrderAndCountsSkips) {
@@ -370,6 +380,33 @@ TEST_F(LivePipeline, SecondSignalAsTheFolderAppearsFindsItWhole) {
   const int status = run.wait(std::chrono::seconds(10));
   EXPECT_TRUE(status == 128 + SIGTERM || status == 0) << status << "\n" << run.output();
   expect_whole_results(out, /*map=*/true, /*report=*/true);
+}
+
+TEST_F(LivePipeline, RobotFileWithADeviceCameraRunsItsSensorsWithoutSource) {
+  // `vigs run --config ROBOT.yaml` on a robot whose camera is a device (camera.driver openni2)
+  // opens that robot's sensors; it does not simulate the built-in default sequence. With no
+  // device here it stops at once on the serial port, naming it, and writes no RESULTS_DIR.
+  const dds::test::ShmJanitor janitor;
+  std::string yaml =
+      read_text(std::string(VIGS_SOURCE_DIR) + "/firmware_config/robots/xtion_serial_imu.yaml");
+  const std::string tty = dir_->file("no_such_tty");
+  const auto replace = [&yaml](const std::string& from, const std::string& to) {
+    const std::size_t at = yaml.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    yaml.replace(at, from.size(), to);
+  };
+  replace("port: /dev/ttyUSB0", "port: " + tty);
+  replace("interface_ip: 192.168.1.20", "interface_ip: 127.0.0.1");  // loopback only
+  replace("dds:\n", "dds:\n  qos_profiles: " + std::string(VIGS_SOURCE_DIR) +
+                        "/firmware_config/dds/qos_profiles.xml\n");
+  const std::string cfg = dir_->file("xtion_here.yaml"), out = dir_->file("results_device");
+  write_text(cfg, yaml);
+  dds::test::ChildProcess run(
+      {VIGS_BIN, "run", "--config", cfg, "--out", out, "--dds-domain", "176", "--quiet"}, {},
+      /*merge_stderr=*/true);
+  EXPECT_EQ(run.wait(std::chrono::seconds(30)), 1) << run.output();
+  EXPECT_NE(run.output().find("serial port " + tty), std::string::npos) << run.output();
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 }  // namespace
