@@ -62,7 +62,6 @@ int project_range_lanes(const GaussianParams<float>& g, const RenderCamera& cam,
   constexpr std::size_t kSpan = 256;  // Gaussians per candidate pass
   ProjectionLanes lanes;
   std::size_t ids[kLanes];
-  float opacity[kLanes];
   std::uint32_t candidates[kSpan];
   const float logit_min = static_cast<float>(std::log(min_alpha / (1.0 - min_alpha)));
   int n = 0, visible = 0;
@@ -83,7 +82,6 @@ int project_range_lanes(const GaussianParams<float>& g, const RenderCamera& cam,
       proj.mean2d[2 * i + 1] = lanes.mean2d[1][l];
       for (int k = 0; k < 3; ++k) proj.conic[3 * i + k] = lanes.conic[k][l];
       proj.depth[i] = lanes.depth[l];
-      proj.opacity[i] = opacity[l];
     }
     n = 0;
   };
@@ -102,7 +100,6 @@ int project_range_lanes(const GaussianParams<float>& g, const RenderCamera& cam,
       for (int k = 0; k < 3; ++k) lanes.mean_w[k][n] = mean[k];
       for (int k = 0; k < 3; ++k) lanes.scale[k][n] = std::exp(log_scale[k]);
       for (int k = 0; k < 4; ++k) lanes.quat_wxyz[k][n] = g.quat_wxyz[4 * i + k];
-      opacity[n] = o;
       ids[n++] = i;
       if (n == kLanes) flush();
     }
@@ -120,7 +117,6 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
   resize_by_eighths(proj_.mean2d, 2 * n);  // the map grows a keyframe at a time
   resize_by_eighths(proj_.conic, 3 * n);
   resize_by_eighths(proj_.depth, n);
-  resize_by_eighths(proj_.opacity, n);
   resize_by_eighths(proj_.radius, n);
   const T near_m = T(settings_.near_m), eps = T(settings_.eps2d_px2);
   // A Gaussian whose opacity is under min_alpha never reaches it at any pixel (both kernels
@@ -159,7 +155,6 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
       proj_.mean2d[2 * i + 1] = pg.mean2d[1];
       for (int k = 0; k < 3; ++k) proj_.conic[3 * i + k] = pg.conic[k];
       proj_.depth[i] = pg.depth;
-      proj_.opacity[i] = opacity;
     }
     return visible;
   };
@@ -212,6 +207,12 @@ void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& ca
   tiles_x_ = (cam.width_px + kTilePx - 1) / kTilePx;
   tiles_y_ = (cam.height_px + kTilePx - 1) / kTilePx;
   const int n_tiles = tiles_x_ * tiles_y_;
+  if (tiles_x_ > std::numeric_limits<std::int16_t>::max() ||
+      tiles_y_ > std::numeric_limits<std::int16_t>::max())
+    throw std::length_error("rasterizer: a " + std::to_string(cam.width_px) + "x" +
+                            std::to_string(cam.height_px) +
+                            " px view has more tiles per row or column than 16-bit tile "
+                            "coordinates hold");
   const std::size_t n = proj_.radius.size();
   // A Gaussian's tiles: those its kernels can blend at all. A pixel contributes only where
   // sigma = d^T conic d / 2 <= sigma_cut (alpha >= min_alpha, tile_kernels.hpp), and that
@@ -262,7 +263,7 @@ void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& ca
       tg.ca = proj_.conic[3 * i];
       tg.cb = proj_.conic[3 * i + 1];
       tg.cc = proj_.conic[3 * i + 2];
-      tg.opacity = proj_.opacity[i];
+      tg.opacity = sigmoid(g.opacity_logit[i]);  // as the projection's cull computed it
       tg.r = g.color_rgb[3 * i];
       tg.g = g.color_rgb[3 * i + 1];
       tg.b = g.color_rgb[3 * i + 2];
@@ -272,11 +273,16 @@ void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& ca
       kernel_reach(&proj_.conic[3 * i], tg.sigma_cut, rx, ry);
       tg.reach_x = settings_.skip_out_of_reach ? rx : std::numeric_limits<T>::infinity();
       tg.reach_y = settings_.skip_out_of_reach ? ry : std::numeric_limits<T>::infinity();
-      int* rect = &slot_tiles_[4 * s];
-      rect_of(i, rx, ry, rect[0], rect[1], rect[2], rect[3]);
-      slot_pairs_[s + 1] = rect[2] >= rect[0] && rect[3] >= rect[1]
-                               ? (rect[2] - rect[0] + 1) * (rect[3] - rect[1] + 1)
-                               : 0;
+      int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+      rect_of(i, rx, ry, x0, y0, x1, y1);
+      const bool any = x1 >= x0 && y1 >= y0;
+      // 16-bit tile coordinates (checked above); an empty rectangle is stored as (0, 0, -1, -1)
+      std::int16_t* rect = &slot_tiles_[4 * s];
+      rect[0] = static_cast<std::int16_t>(any ? x0 : 0);
+      rect[1] = static_cast<std::int16_t>(any ? y0 : 0);
+      rect[2] = static_cast<std::int16_t>(any ? x1 : -1);
+      rect[3] = static_cast<std::int16_t>(any ? y1 : -1);
+      slot_pairs_[s + 1] = any ? (x1 - x0 + 1) * (y1 - y0 + 1) : 0;
     }
   });
   // Offsets are int (the kernels index with them): the pairs are summed in 64 bits and bounded
@@ -303,7 +309,7 @@ void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& ca
     int* count = chunk_tile_.data() + c * tiles;
     std::fill(count, count + tiles, 0);
     for (std::size_t s = c * kSlotChunk, e = std::min(n_vis, s + kSlotChunk); s < e; ++s) {
-      const int* rect = &slot_tiles_[4 * s];
+      const std::int16_t* rect = &slot_tiles_[4 * s];
       for (int ty = rect[1]; ty <= rect[3]; ++ty)
         for (int tx = rect[0]; tx <= rect[2]; ++tx) ++count[ty * tiles_x_ + tx];
     }
@@ -326,7 +332,7 @@ void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& ca
   run_claimed(chunks, [&](int, std::size_t c) {
     int* cursor = chunk_tile_.data() + c * tiles;
     for (std::size_t s = c * kSlotChunk, e = std::min(n_vis, s + kSlotChunk); s < e; ++s) {
-      const int* rect = &slot_tiles_[4 * s];
+      const std::int16_t* rect = &slot_tiles_[4 * s];
       for (int ty = rect[1]; ty <= rect[3]; ++ty)
         for (int tx = rect[0]; tx <= rect[2]; ++tx)
           tile_ids_[static_cast<std::size_t>(cursor[ty * tiles_x_ + tx]++)] = static_cast<int>(s);
@@ -450,7 +456,7 @@ void Rasterizer<T>::accumulate_gradients(const RenderCamera& cam, const RenderRe
     const int tx = tile % tiles_x_, ty = tile / tiles_x_;
     for (int k = b; k < e; ++k) {
       const auto slot = static_cast<std::size_t>(tile_ids_[k]);
-      const int* r = &slot_tiles_[4 * slot];
+      const std::int16_t* r = &slot_tiles_[4 * slot];
       const int local = (ty - r[1]) * (r[2] - r[0] + 1) + (tx - r[0]);
       pair_grad_[static_cast<std::size_t>(slot_pairs_[slot] + local)] =
           tg[static_cast<std::size_t>(k - b)];
@@ -480,7 +486,7 @@ void Rasterizer<T>::gaussian_gradient(const GaussianParams<T>& g, const RenderCa
   }
   project_gaussian_vjp(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i],
                        T(settings_.eps2d_px2), &v[0], &v[2], v[9], &out[0], &out[3], &out[6]);
-  const T op = proj_.opacity[i];
+  const T op = packed_[slot].opacity;
   out[10] = v[5] * op * (T(1) - op);
   for (int k = 0; k < 3; ++k) out[11 + k] = v[6 + k];
 }
@@ -523,9 +529,9 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
 
 template <class T>
 std::size_t Rasterizer<T>::cache_bytes() const {
-  std::size_t bytes = capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.opacity,
-                                     proj_.radius, tile_ids_, visible_slot_, visible_ids_, packed_,
-                                     slot_tiles_, slot_pairs_, pair_grad_, units_, chunk_tile_);
+  std::size_t bytes = capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.radius,
+                                     tile_ids_, visible_slot_, visible_ids_, packed_, slot_tiles_,
+                                     slot_pairs_, pair_grad_, units_, chunk_tile_);
   return bytes;
 }
 

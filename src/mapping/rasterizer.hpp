@@ -43,7 +43,6 @@ struct Projection {
   std::vector<T> mean2d;    ///< 2 per Gaussian
   std::vector<T> conic;     ///< 3 per Gaussian
   std::vector<T> depth;     ///< 1 per Gaussian
-  std::vector<T> opacity;   ///< sigmoid(logit)
   std::vector<int> radius;  ///< 0 = culled
 };
 
@@ -130,7 +129,8 @@ class Rasterizer {
   /// per visible slot: its kernel record (projection, colour, depth, sigma cut, reach), which a
   /// tile's gather copies per pair
   std::vector<TileGaussian<T>> packed_;
-  std::vector<int> slot_tiles_;  ///< 4 per visible slot: its tiles x0, y0, x1, y1 (inclusive)
+  /// 4 per visible slot: its tiles x0, y0, x1, y1 (inclusive), 16 bits each
+  std::vector<std::int16_t> slot_tiles_;
   std::vector<int> slot_pairs_;  ///< visible + 1: offsets of each slot's pairs in pair_grad_
   /// backward: per Gaussian-tile pair, grouped by visible slot, row-major tile order within one
   std::vector<TileGrad<T>> pair_grad_;
