@@ -9,11 +9,15 @@
 //                  frame-to-frame motion of 6 m/s at 20 Hz, i.e. fast motion).
 // range(1): 0 imu, 1 previous_pose, 2 constant_velocity. Each replay is deterministic, so one
 // iteration is enough; the sequence is simulated once per camera rate (not timed).
+//
+// BM_TrackOffice720: the tracker alone at 720x480 (lockstep). BM_LiveOffice720: `vigs run`'s
+// live pipeline in real time on the same sequence, mapping on, DDS on loopback.
 #include <benchmark/benchmark.h>
 
 #include <map>
 #include <memory>
 
+#include "pipeline/live_pipeline.hpp"
 #include "pipeline/lockstep_replay.hpp"
 #include "pipeline/replay_figures.hpp"
 #include "tests/pipeline/sim_sequence.hpp"
@@ -112,6 +116,56 @@ BENCHMARK(BM_TrackOffice720)
     ->ArgName("gicp_source_stride")
     ->Arg(1)
     ->Arg(2)
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);
+
+// The live pipeline in real time, as `vigs run` runs it (the robot file's rt:, mapping on, DDS
+// on loopback, domain 231): the 10 s office at 720x480 with 4 people, played straight into the
+// rings (range(0) = 0, the baseline) or through the real drivers (1: an .oni clip through
+// OpenNI2, the IMU as Xsens bytes on a pseudo-terminal). Issue #14's figures: the real-time
+// factor between 10 % and 90 % of the run (goal >= 1.0) and tracker overruns, the tracker's
+// cycle p50 / p99 (goal 15 / 30 ms), and the pose latency from a frame's arrival to its pose in
+// the publisher's ring (DDS adds its transport: bench_dds, `vigs echo --receipt`).
+void BM_LiveOffice720(benchmark::State& state) {
+  static TempDir dir;
+  static config::RobotConfig cfg;
+  static std::string path;
+  static pipeline::RecordedMotion motion;
+  if (path.empty()) {
+    cfg.sim.preset = "office";
+    cfg.sim.humans = 4;
+    cfg.sim.seconds = 10.0;
+    path = dir.file("office_720x480_live.mcap");
+    pipeline::testing::simulate(cfg, path);
+    motion = pipeline::read_recorded_motion(path);
+  }
+  pipeline::LiveOptions o;
+  o.recording = path;
+  o.through_drivers = state.range(0) != 0;
+  o.dds_domain = 231;
+  pipeline::LiveResult r;
+  for (auto _ : state) {
+    r = pipeline::run_live(cfg, o);
+    benchmark::DoNotOptimize(r.replay.frames.data());
+  }
+  const auto ms = [](std::int64_t ns) { return static_cast<double>(ns) * 1e-6; };
+  state.counters["real_time_factor_steady"] = r.real_time_factor_steady.value_or(0.0);
+  state.counters["tracker_overruns"] = static_cast<double>(r.tracker_overruns);
+  state.counters["cycle_ms_p50"] = ms(r.cycle_p50_ns);
+  state.counters["cycle_ms_p99"] = ms(r.cycle_p99_ns);
+  state.counters["pose_latency_ms_p50"] = ms(r.pose_latency_ns.p50_ns);
+  state.counters["pose_latency_ms_p99"] = ms(r.pose_latency_ns.p99_ns);
+  state.counters["frames_tracked"] = static_cast<double>(r.replay.frames.size());
+  state.counters["frames_skipped"] = static_cast<double>(r.tracker.skipped);
+  state.counters["poses_published"] = static_cast<double>(r.poses_published);
+  state.counters["ate_rmse_m"] =
+      pipeline::testing::camera_ate(motion, r.replay.frames, cfg).stats.rmse;
+}
+BENCHMARK(BM_LiveOffice720)
+    ->ArgName("through_drivers")
+    ->Arg(0)
+    ->Arg(1)
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kSecond);
