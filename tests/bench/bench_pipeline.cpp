@@ -159,6 +159,7 @@ void BM_LiveOffice720(benchmark::State& state) {
   state.counters["frames_tracked"] = static_cast<double>(r.replay.frames.size());
   state.counters["frames_skipped"] = static_cast<double>(r.tracker.skipped);
   state.counters["poses_published"] = static_cast<double>(r.poses_published);
+  state.counters["lost"] = static_cast<double>(r.replay.counters.lost);
   state.counters["ate_rmse_m"] =
       pipeline::testing::camera_ate(motion, r.replay.frames, cfg).stats.rmse;
 }
