@@ -75,6 +75,7 @@ void PeriodicTask::run(std::stop_token stop) noexcept {
     if (end > deadline) {
       // Finished after the next deadline: skip to the first deadline still in the future.
       const std::int64_t skipped = (end - deadline) / period + 1;
+      if (overruns_.get() < kOverrunTimes) overrun_end_ns_[overruns_.get()] = end;
       overruns_.add();
       missed_deadlines_.add(static_cast<std::uint64_t>(skipped));
       deadline += skipped * period;

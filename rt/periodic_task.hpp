@@ -14,11 +14,14 @@
 // before the next body call, so stop() returns within one period plus one body run.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <concepts>
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <stop_token>
 #include <string>
 #include <utility>
@@ -73,6 +76,14 @@ class PeriodicTask {
   // Statistics; any thread, any time.
   [[nodiscard]] std::uint64_t cycles() const noexcept { return cycles_.get(); }
   [[nodiscard]] std::uint64_t overruns() const noexcept { return overruns_.get(); }
+  // When the first kOverrunTimes overruns ended (CLOCK_MONOTONIC, the body's end), so a caller
+  // can tell a start-up overrun from one in steady state. Read after stop() (the task's thread
+  // writes them without synchronisation; the join orders them before the read).
+  static constexpr std::size_t kOverrunTimes = 64;
+  [[nodiscard]] std::span<const std::int64_t> overrun_end_times_ns() const noexcept {
+    const auto n = std::min<std::uint64_t>(overruns_.get(), kOverrunTimes);
+    return {overrun_end_ns_.data(), static_cast<std::size_t>(n)};
+  }
   [[nodiscard]] std::uint64_t missed_deadlines() const noexcept { return missed_deadlines_.get(); }
   // Sum of |shift| applied by shift_next_deadline (how much the grid moved).
   [[nodiscard]] std::uint64_t phase_shift_ns() const noexcept { return phase_shift_ns_.get(); }
@@ -89,6 +100,7 @@ class PeriodicTask {
   std::atomic<bool> stop_flag_{false};  // request_stop() touches only this: safe from the body
   SingleWriterCounter cycles_;
   SingleWriterCounter overruns_;
+  std::array<std::int64_t, kOverrunTimes> overrun_end_ns_{};  // the task's thread only
   SingleWriterCounter missed_deadlines_;
   SingleWriterCounter phase_shift_ns_;
   std::int64_t pending_shift_ns_ = 0;  // the task's thread only

@@ -115,6 +115,8 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   s["tracker_cycle_ms_p99"] = ms(r.cycle_p99_ns);
   s["tracker_cycles"] = r.tracker_cycles;
   s["tracker_overruns"] = r.tracker_overruns;
+  s["tracker_overruns_steady"] =
+      r.tracker_overruns_steady ? io::Json(*r.tracker_overruns_steady) : io::Json(nullptr);
   s["tracker_missed_deadlines"] = r.tracker_missed;
   s["tracker_phase_shift_ms"] = ms(static_cast<std::int64_t>(r.tracker_phase_shift_ns));
   s["pose_latency_ms_p50"] = ms(r.pose_latency_ns.p50_ns);

@@ -478,6 +478,12 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     std::vector<std::int64_t> stream_ns(r.frames.size());
     for (std::size_t i = 0; i < r.frames.size(); ++i) stream_ns[i] = r.frames[i].t_ns;
     out.real_time_factor_steady = steady_real_time_factor(stream_ns, done_ns);
+    // Overruns in the same window (the task is joined: its overrun times are complete). More
+    // overruns than it logs: all of them count, an upper bound.
+    const std::span<const std::int64_t> overran = tracker_task.overrun_end_times_ns();
+    out.tracker_overruns_steady = out.tracker_overruns > overran.size()
+                                      ? std::optional<std::uint64_t>(out.tracker_overruns)
+                                      : events_in_steady_window(done_ns, overran);
   }
   return out;
 }

@@ -119,6 +119,9 @@ struct LiveResult {
   std::uint64_t poses_published = 0;
   std::uint64_t status_published = 0;
   std::uint64_t tracker_cycles = 0, tracker_overruns = 0, tracker_missed = 0;
+  /// Tracker overruns between the two frames real_time_factor_steady is measured between;
+  /// unset with fewer than 3 frames.
+  std::optional<std::uint64_t> tracker_overruns_steady;
   std::int64_t cycle_p50_ns = 0, cycle_p99_ns = 0;  ///< tracker task body
   std::int64_t track_p50_ns = 0, track_p99_ns = 0;  ///< Odometry::track
   /// Real time: a frame's arrival in the ring (the driver's CLOCK_MONOTONIC) to its pose in

@@ -7,6 +7,7 @@
 // wall time from the first frame) stays beside it.
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace vigs::pipeline {
@@ -18,5 +19,12 @@ namespace vigs::pipeline {
 std::optional<double> steady_real_time_factor(const std::vector<std::int64_t>& stream_ns,
                                               const std::vector<std::int64_t>& done_ns,
                                               double trim = 0.1);
+
+/// How many of `event_ns` (CLOCK_MONOTONIC) fall between the poses of the same two frames
+/// steady_real_time_factor() measures between (`done_ns` in pose order, same `trim`): e.g. the
+/// tracker's overruns in steady state. Nothing with fewer than 3 frames.
+std::optional<std::uint64_t> events_in_steady_window(const std::vector<std::int64_t>& done_ns,
+                                                     std::span<const std::int64_t> event_ns,
+                                                     double trim = 0.1);
 
 }  // namespace vigs::pipeline

@@ -41,6 +41,23 @@ TEST(SteadyRealTimeFactor, APipelineThatFallsBehindShowsItsOwnRate) {
   EXPECT_NEAR(*steady, 50.0 / 60.0, 1e-12);
 }
 
+TEST(EventsInSteadyWindow, CountsOnlyBetweenTheSteadyFrames) {
+  // 100 poses 50 ms apart: the window runs from pose 9 (trim 0.1 of 99 intervals) to pose 90.
+  std::vector<std::int64_t> done;
+  for (int i = 0; i < 100; ++i) done.push_back(i * kPeriodNs);
+  const std::vector<std::int64_t> events{
+      2 * kPeriodNs,        // start-up: out
+      9 * kPeriodNs,        // at the window's first pose: out (after it only)
+      9 * kPeriodNs + 1,    // in
+      50 * kPeriodNs,       // in
+      90 * kPeriodNs,       // at the last pose: in
+      90 * kPeriodNs + 1,   // drain: out
+      99 * kPeriodNs + 7};  // out
+  EXPECT_EQ(events_in_steady_window(done, events), 3u);
+  EXPECT_EQ(events_in_steady_window(done, {}), 0u);
+  EXPECT_FALSE(events_in_steady_window({0, kPeriodNs}, events));
+}
+
 TEST(SteadyRealTimeFactor, NothingWithoutEnoughFramesOrWallTime) {
   EXPECT_FALSE(steady_real_time_factor({0, kPeriodNs}, {0, kPeriodNs}));
   EXPECT_FALSE(steady_real_time_factor({0, 1, 2}, {0, 1}));

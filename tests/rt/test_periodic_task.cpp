@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <stdexcept>
@@ -89,6 +90,7 @@ TEST(PeriodicTask, KeepsItsRateWhileAnotherThreadBurnsCpu) {
 TEST(PeriodicTask, SlowBodyProducesCountedOverruns) {
   PeriodicTask task(test_spec(ms_to_ns(2)),
                     [] { std::this_thread::sleep_for(std::chrono::milliseconds(5)); });
+  const std::int64_t started = monotonic_ns();
   task.start();
   const std::int64_t give_up = monotonic_ns() + s_to_ns(std::int64_t{10});
   while (task.cycles() < 5 && monotonic_ns() < give_up) {
@@ -99,6 +101,12 @@ TEST(PeriodicTask, SlowBodyProducesCountedOverruns) {
   EXPECT_EQ(task.overruns(), task.cycles());
   EXPECT_GE(task.missed_deadlines(), 2 * task.overruns());
   EXPECT_GE(task.cycle_time().min(), ms_to_ns(5));
+  // Each overrun's end is logged (the first kOverrunTimes), in order, 5 ms of body apart.
+  const auto ends = task.overrun_end_times_ns();
+  ASSERT_EQ(ends.size(), std::min<std::uint64_t>(task.overruns(), PeriodicTask::kOverrunTimes));
+  EXPECT_GE(ends.front(), started + ms_to_ns(5));
+  for (std::size_t i = 1; i < ends.size(); ++i) EXPECT_GE(ends[i] - ends[i - 1], ms_to_ns(5));
+  EXPECT_LE(ends.back(), monotonic_ns());
 }
 
 // shift_next_deadline moves the grid by the shift (clamped to half a period), and a shift
