@@ -253,6 +253,14 @@ std::uint32_t LiveTracker::driver_fault_flags() noexcept {
   if (s_.driver_faults == nullptr) return 0;
   std::uint32_t flags = 0;
   const std::uint64_t imu_corrupt = s_.driver_faults->imu_corrupt();
+  if (!driver_faults_baseline_) {
+    // The counts at the first pose are the baseline, not a fault: a serial port opened while
+    // the IMU streams skips bytes to its first header (counted as resync) before any pose.
+    driver_faults_baseline_ = true;
+    imu_corrupt_seen_ = imu_corrupt;
+    camera_losses_seen_ = s_.driver_faults->camera_losses();
+    return 0;
+  }
   if (imu_corrupt != imu_corrupt_seen_) flags |= kPoseFlagImuCorrupt;
   imu_corrupt_seen_ = imu_corrupt;
   const std::uint64_t camera_losses = s_.driver_faults->camera_losses();

@@ -29,7 +29,8 @@
 // stream stopped: the IMU frontend extrapolates its last reading until samples return). The
 // drivers' own faults (LiveTrackerSettings::driver_faults, counted on their threads) flag the
 // first pose after their count grew: corrupt serial IMU bytes kPoseFlagImuCorrupt, a lost
-// (and reopened) camera kPoseFlagCameraReopened.
+// (and reopened) camera kPoseFlagCameraReopened; their counts at the first pose are the
+// baseline (a port opened mid-stream skips bytes to its first header).
 // Lockstep waits are bounded (wait_timeout_ns): a stage that does not move in that time fails
 // the tracker with a message naming the ring instead of hanging.
 // After warm-up the tick does not allocate, lock or log: the tracking buffers are sized for a
@@ -175,7 +176,8 @@ class LiveTracker {
   std::int64_t last_t_ns_ = INT64_MIN;
   std::int64_t last_imu_t_ns_ = INT64_MIN;  // newest IMU sample moved into the Odometry
   std::uint32_t pending_flags_ = 0;
-  std::uint64_t imu_corrupt_seen_ = 0;  // DriverFaultCounts at the previous pose
+  bool driver_faults_baseline_ = false;  // taken at the first pose
+  std::uint64_t imu_corrupt_seen_ = 0;   // DriverFaultCounts at the previous pose
   std::uint64_t camera_losses_seen_ = 0;
   bool end_pending_ = false;  // the end marker was taken behind the frame being tracked
   std::uint64_t frame_index_ = 0;

@@ -125,14 +125,17 @@ TEST_F(LiveTrackerFaults, DriverFaultsFlagTheFirstPoseAfterThem) {
     push(t_ns);
     tracker_->tick();
   };
+  // Bytes skipped to the first header when the port was opened mid-stream: the baseline at the
+  // first pose, not a fault.
+  driver_faults_.imu_corrupt_count = 40;
   track(3'000'000'000);
-  driver_faults_.imu_corrupt_count = 3;  // a bad checksum and the bytes skipped to resync
+  driver_faults_.imu_corrupt_count = 43;  // a bad checksum and the bytes skipped to resync
   track(3'050'000'000);
   track(3'100'000'000);
   driver_faults_.camera_loss_count = 1;  // lost and reopened before the next frame
   track(3'150'000'000);
   track(3'200'000'000);
-  driver_faults_.imu_corrupt_count = 5;
+  driver_faults_.imu_corrupt_count = 45;
   driver_faults_.camera_loss_count = 2;
   track(3'250'000'000);
   track(3'300'000'000);
