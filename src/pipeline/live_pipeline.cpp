@@ -469,6 +469,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     out.track_p99_ns = std::llround(1e6 * *track_ms_quantile(r, 0.99));
   }
   out.drops = total_drops(status_sources) + out.source.frame_drops + out.source.imu_drops;
+  if (out.trigger) out.drops += out.trigger->dropped_ring_full;  // edges the driver never saw
   out.pose_latency_ns = quantiles(latency_ns);
   out.frame_wait_ns = quantiles(wait_ns);
   out.tracker_phase_shift_ns = tracker_task.phase_shift_ns();
