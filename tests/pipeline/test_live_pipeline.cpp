@@ -351,13 +351,10 @@ TEST_F(LivePipeline, TwoQuickSignalsExitAtOnceAndLeaveNoPartialFolder) {
   // drain and save (about half a second here) still run.
   ASSERT_TRUE(wait_signal_taken(run.pid(), SIGTERM, std::chrono::seconds(5)));
   signal_child(run.pid(), SIGTERM);
-  const auto t0 = std::chrono::steady_clock::now();
+  // The status proves it: the handler's _exit, not the save's exit 0 (not timed: no speed
+  // assertion in a test)
   const int status = run.wait(std::chrono::seconds(10));
-  const auto waited_ms =
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
-          .count();
-  EXPECT_EQ(status, 128 + SIGTERM) << run.output();  // the handler's _exit, no save
-  EXPECT_LT(waited_ms, 1000);
+  EXPECT_EQ(status, 128 + SIGTERM) << run.output();
   if (std::filesystem::exists(out)) expect_whole_results(out, /*map=*/true, /*report=*/true);
 }
 
