@@ -86,19 +86,28 @@ BENCHMARK(BM_ReplayOffice)
 // tracking.gicp_source_stride (1: GICP aligns every point, the baseline; 2: the default).
 // Reports the per-frame tracking time's median and p99 (the goal: 15 / 30 ms on 2
 // threads) and the ATE.
-void BM_TrackOffice720(benchmark::State& state) {
+/// The 10 s office at 720x480 (the default robot) with 4 walking people, simulated once for the
+/// tracker and live benchmarks.
+const Sequence& office720() {
   static TempDir dir;
-  static config::RobotConfig cfg;
-  static std::string path;
-  static pipeline::RecordedMotion motion;
-  if (path.empty()) {
-    cfg.sim.preset = "office";
-    cfg.sim.humans = 4;
-    cfg.sim.seconds = 10.0;
-    path = dir.file("office_720x480.mcap");
-    pipeline::testing::simulate(cfg, path);
-    motion = pipeline::read_recorded_motion(path);
-  }
+  static const Sequence seq = [] {
+    Sequence s;
+    s.cfg.sim.preset = "office";
+    s.cfg.sim.humans = 4;
+    s.cfg.sim.seconds = 10.0;
+    s.path = dir.file("office_720x480.mcap");
+    pipeline::testing::simulate(s.cfg, s.path);
+    s.motion = pipeline::read_recorded_motion(s.path);
+    return s;
+  }();
+  return seq;
+}
+
+void BM_TrackOffice720(benchmark::State& state) {
+  const Sequence& seq = office720();
+  const config::RobotConfig& cfg = seq.cfg;
+  const std::string& path = seq.path;
+  const pipeline::RecordedMotion& motion = seq.motion;
   config::RobotConfig run = cfg;
   run.tracking.gicp_source_stride = static_cast<int>(state.range(0));
   pipeline::ReplayResult r;
@@ -128,18 +137,10 @@ BENCHMARK(BM_TrackOffice720)
 // cycle p50 / p99 (goal 15 / 30 ms), and the pose latency from a frame's arrival to its pose in
 // the publisher's ring (DDS adds its transport: bench_dds, `vigs echo --receipt`).
 void BM_LiveOffice720(benchmark::State& state) {
-  static TempDir dir;
-  static config::RobotConfig cfg;
-  static std::string path;
-  static pipeline::RecordedMotion motion;
-  if (path.empty()) {
-    cfg.sim.preset = "office";
-    cfg.sim.humans = 4;
-    cfg.sim.seconds = 10.0;
-    path = dir.file("office_720x480_live.mcap");
-    pipeline::testing::simulate(cfg, path);
-    motion = pipeline::read_recorded_motion(path);
-  }
+  const Sequence& seq = office720();
+  const config::RobotConfig& cfg = seq.cfg;
+  const std::string& path = seq.path;
+  const pipeline::RecordedMotion& motion = seq.motion;
   pipeline::LiveOptions o;
   o.recording = path;
   o.through_drivers = state.range(0) != 0;
