@@ -18,6 +18,7 @@
 #include "drivers/gpio_trigger/gpio_trigger.hpp"
 #include "drivers/v4l2/v4l2_rgbd_driver.hpp"
 #include "fake_v4l2_device.hpp"
+#include "tests/common/test_pipe.hpp"
 
 namespace vigs::drivers {
 namespace {
@@ -35,25 +36,9 @@ bool wait_until(const std::function<bool()>& done, std::chrono::milliseconds lim
   return true;
 }
 
-struct Pipe {
-  int r = -1, w = -1;
-  Pipe() {
-    int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) == 0) {
-      r = fds[0];
-      w = fds[1];
-    }
-  }
-  ~Pipe() {
-    if (r >= 0) ::close(r);
-    if (w >= 0) ::close(w);
-  }
-  // One event exactly as the kernel's lineevent read() returns it.
+struct Pipe : test::GpioEventPipe {
   void edge(std::int64_t t_ns, std::uint32_t id = GPIOEVENT_EVENT_RISING_EDGE) const {
-    gpioevent_data e{};
-    e.timestamp = static_cast<__u64>(t_ns);
-    e.id = id;
-    ASSERT_EQ(::write(w, &e, sizeof e), static_cast<ssize_t>(sizeof e));
+    ASSERT_TRUE(write_edge(t_ns, id));
   }
 };
 

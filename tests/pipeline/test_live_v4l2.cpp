@@ -32,6 +32,7 @@
 #include "pipeline/live_pipeline.hpp"
 #include "rt/clock.hpp"
 #include "sim_sequence.hpp"
+#include "tests/common/test_pipe.hpp"
 
 namespace vigs::pipeline {
 namespace {
@@ -102,23 +103,6 @@ std::vector<std::uint8_t> ramp_yuyv(const config::CameraSettings& c) {
   return bytes;
 }
 
-struct Pipe {
-  int r = -1, w = -1;
-  Pipe() {
-    int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) == 0) {
-      r = fds[0];
-      w = fds[1];
-    }
-  }
-  ~Pipe() {
-    if (r >= 0) ::close(r);
-    if (w >= 0) ::close(w);
-  }
-  Pipe(const Pipe&) = delete;
-  Pipe& operator=(const Pipe&) = delete;
-};
-
 struct RunOutcome {
   LiveResult result;
   std::set<std::int64_t> edge_stamps_ns;   // every edge written
@@ -134,7 +118,7 @@ RunOutcome run_fake_live(bool trigger) {
   drivers::PseudoTerminal pty;
   // A pipeline that failed reads nothing: a full pty then drops bytes instead of blocking.
   EXPECT_EQ(::fcntl(pty.master_fd(), F_SETFL, ::fcntl(pty.master_fd(), F_GETFL) | O_NONBLOCK), 0);
-  Pipe edges;
+  test::GpioEventPipe edges;
   EXPECT_GE(edges.r, 0);
 
   config::RobotConfig cfg = testing::live_test_config(kFrames / 20.0);
@@ -199,11 +183,7 @@ RunOutcome run_fake_live(bool trigger) {
       if (k % kImuPerFrame == 0) {
         edge_ns = rt::monotonic_ns();
         if (trigger) {
-          gpioevent_data e{};
-          e.timestamp = static_cast<__u64>(edge_ns);
-          e.id = GPIOEVENT_EVENT_RISING_EDGE;
-          if (::write(edges.w, &e, sizeof e) == static_cast<ssize_t>(sizeof e))
-            out.edge_stamps_ns.insert(edge_ns);
+          if (edges.write_edge(edge_ns)) out.edge_stamps_ns.insert(edge_ns);
         }
       }
       if (k % kImuPerFrame != kTransferImuPeriods) continue;
