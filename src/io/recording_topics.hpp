@@ -40,6 +40,14 @@ inline constexpr RecordedTopic kImu{"/vigs/imu", "sensor_msgs/msg/Imu",
 inline constexpr RecordedTopic kBodyPose{"/vigs/ground_truth/body_pose",
                                          "geometry_msgs/msg/PoseStamped",
                                          "T_w_b: position m, unit quaternion", "world"};
+/// Written by the simulator only, right after each frame's depth: which pixels show a walking
+/// person, whom the map leaves out by design, so that the evaluation can measure the map on
+/// the static scene (eval/render_quality.hpp).
+inline constexpr RecordedTopic kDynamicMask{
+    "/vigs/ground_truth/dynamic_mask", "sensor_msgs/msg/Image",
+    "mono8: 255 where a moving person is the closest surface, 0 elsewhere (simulator ground "
+    "truth); same stamp and size as the colour image",
+    "camera"};
 
 /// Written by `vigs record` (src/record): the serial port's raw bytes, so that a replay can drive
 /// the real serial driver with them, and the GPIO frame-sync edges.
@@ -64,8 +72,9 @@ inline constexpr RecordedTopic kTrackerImu{"/vigs/pose/imu_used", "sensor_msgs/m
                                            "when the frame at header stamp was tracked",
                                            "camera"};
 
-inline constexpr std::array<RecordedTopic, 9> kAll{
-    kCameraInfo, kRgb, kDepth, kImu, kBodyPose, kImuSerial, kCameraTrigger, kPose, kTrackerImu};
+inline constexpr std::array<RecordedTopic, 10> kAll{
+    kCameraInfo,  kRgb,       kDepth,         kImu,  kBodyPose,
+    kDynamicMask, kImuSerial, kCameraTrigger, kPose, kTrackerImu};
 
 }  // namespace topics
 
@@ -74,6 +83,8 @@ static_assert(topics::kCameraInfo.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::CameraInfo>::kRos2Name);
 static_assert(topics::kRgb.ros2_type == ros_msgs::MessageTraits<ros_msgs::Image>::kRos2Name);
 static_assert(topics::kDepth.ros2_type == ros_msgs::MessageTraits<ros_msgs::Image>::kRos2Name);
+static_assert(topics::kDynamicMask.ros2_type ==
+              ros_msgs::MessageTraits<ros_msgs::Image>::kRos2Name);
 static_assert(topics::kImu.ros2_type == ros_msgs::MessageTraits<ros_msgs::Imu>::kRos2Name);
 static_assert(topics::kBodyPose.ros2_type ==
               ros_msgs::MessageTraits<ros_msgs::PoseStamped>::kRos2Name);

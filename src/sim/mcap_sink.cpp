@@ -9,6 +9,8 @@ McapSink::McapSink(const std::string& path, const McapSinkOptions& options)
 
 void McapSink::frame(std::int64_t t_ns, const PinholeCamera& camera, const RgbdFrame& f) {
   writer_.frame(t_ns, camera, f.color, f.gray, f.depth_m);
+  // After the frame's depth, so a reader pairs it with the pending frame.
+  if (!f.dynamic_mask.empty()) writer_.dynamic_mask(t_ns, f.width, f.height, f.dynamic_mask);
 }
 
 void McapSink::imu(const ImuSample& s) {

@@ -6,6 +6,7 @@
 //   /vigs/depth                   sensor_msgs/msg/Image 16UC1 (mm) or 32FC1 (m)
 //   /vigs/imu                     sensor_msgs/msg/Imu, frame "body"
 //   /vigs/ground_truth/body_pose  geometry_msgs/msg/PoseStamped T_w_b, frame "world"
+//   /vigs/ground_truth/dynamic_mask  sensor_msgs/msg/Image mono8, 255 = a person (after depth)
 #include <string>
 
 #include "core/config/robot_config.hpp"

@@ -89,6 +89,7 @@ void Renderer::render(const geometry::Pose& T_w_c, const PeopleSnapshot& people,
   const std::size_t n = static_cast<std::size_t>(out.width) * out.height;
   out.color.resize(n * (s_.gray ? 1 : 3));
   out.depth_m.resize(n);
+  out.dynamic_mask.resize(n);
   constexpr int kRowsPerTask = 8;
   std::atomic<int> next_row{0};
   auto work = [&] {
@@ -124,7 +125,9 @@ void Renderer::render_rows(const geometry::Pose& T_w_c, const PeopleSnapshot& pe
       Hit hit;
       float depth = 0.0f;
       Rgb c{0.0f, 0.0f, 0.0f};
-      if (cast(ray, &people, hit)) {
+      const bool hit_any = cast(ray, &people, hit);
+      out.dynamic_mask[idx] = hit_any && hit.dynamic ? 255 : 0;
+      if (hit_any) {
         const float z = hit.t;  // camera z of d is 1
         const float shade = 0.55f + 0.45f * std::abs(dot(hit.normal, light));
         const float cos_inc = std::abs(dot(hit.normal, d)) / std::sqrt(dot(d, d));

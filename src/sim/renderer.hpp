@@ -35,6 +35,10 @@ struct RgbdFrame {
   bool gray = false;
   std::vector<std::uint8_t> color;  ///< rgb8 or mono8, row-major
   std::vector<float> depth_m;       ///< 0 = no measurement
+  /// 255 where a person is the closest surface, 0 elsewhere (ground truth, row-major), set
+  /// whether or not the depth pixel is valid: the map leaves people out by design, so the
+  /// evaluation measures it on the other pixels.
+  std::vector<std::uint8_t> dynamic_mask;
 };
 
 class Renderer {

@@ -43,6 +43,11 @@ const fs = require("fs");
       errors.push(`depth: ${msg.encoding} ${msg.data.length} bytes`);
     if (ch.topic === "/vigs/rgb" && (msg.encoding !== "rgb8" || msg.step !== 720 * 3))
       errors.push(`rgb: ${msg.encoding} step ${msg.step}`);
+    if (
+      ch.topic === "/vigs/ground_truth/dynamic_mask" &&
+      (msg.encoding !== "mono8" || msg.step !== 720 || msg.data.length !== 720 * 480)
+    )
+      errors.push(`dynamic_mask: ${msg.encoding} step ${msg.step} ${msg.data.length} bytes`);
     if (ch.topic === "/vigs/camera_info" && (msg.k[0] !== 415.69219381653056 || msg.k[2] !== 360))
       errors.push(`camera_info: K ${Array.from(msg.k)}`);
   }
@@ -53,6 +58,7 @@ const fs = require("fs");
     "/vigs/camera_info": Math.round(s * 20) + 1,
     "/vigs/imu": Math.round(s * 200) + 1,
     "/vigs/ground_truth/body_pose": Math.round(s * 200) + 1,
+    "/vigs/ground_truth/dynamic_mask": Math.round(s * 20) + 1,
   };
   for (const [topic, n] of Object.entries(want)) {
     if (counts[topic] !== n) errors.push(`${topic}: ${counts[topic]} messages, expected ${n}`);

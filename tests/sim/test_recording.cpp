@@ -5,8 +5,10 @@
 #include <cstring>
 #include <map>
 
+#include "../common/scaled_camera.hpp"
 #include "../common/temp_files.hpp"
 #include "io/mcap/mcap_reader.hpp"
+#include "io/recording/recorded_frames.hpp"
 #include "io/ros_msgs/camera_info.hpp"
 #include "io/ros_msgs/image.hpp"
 #include "io/ros_msgs/imu.hpp"
@@ -24,6 +26,7 @@ class MemorySink : public SimSink {
   void frame(std::int64_t t_ns, const PinholeCamera&, const RgbdFrame& f) override {
     frame_t.push_back(t_ns);
     last_depth = f.depth_m;
+    masks.push_back(f.dynamic_mask);
     events.push_back({t_ns, 2});
   }
   void imu(const ImuSample& s) override {
@@ -41,6 +44,7 @@ class MemorySink : public SimSink {
   std::vector<ImuSample> imu_samples;
   std::vector<geometry::Pose> gt;
   std::vector<float> last_depth;
+  std::vector<std::vector<std::uint8_t>> masks;  ///< every frame's ground-truth person mask
 };
 
 /// Passes every call on to two sinks.
@@ -110,15 +114,22 @@ TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
   io::mcap::McapReader reader(path);
   std::map<std::string, int> count;
   io::mcap::MessageView m;
-  io::ros_msgs::Image depth;
+  io::ros_msgs::Image depth, mask;
   io::ros_msgs::CameraInfo info;
   io::ros_msgs::PoseStamped pose;
   io::ros_msgs::Imu imu;
+  std::string previous_topic;
   while (reader.next(m)) {
     const std::string topic = m.channel->topic;
     ++count[topic];
     bool ok = true;
     if (topic == "/vigs/depth") ok = io::ros_msgs::decode_message(m, depth);
+    if (topic == "/vigs/ground_truth/dynamic_mask") {
+      ok = io::ros_msgs::decode_message(m, mask);
+      EXPECT_EQ(previous_topic, "/vigs/depth");  // right after its frame's depth
+      EXPECT_EQ(mask.header.stamp.to_ns(), depth.header.stamp.to_ns());
+    }
+    previous_topic = topic;
     if (topic == "/vigs/camera_info") ok = io::ros_msgs::decode_message(m, info);
     if (topic == "/vigs/ground_truth/body_pose") ok = io::ros_msgs::decode_message(m, pose);
     if (topic == "/vigs/imu") ok = io::ros_msgs::decode_message(m, imu);
@@ -130,6 +141,10 @@ TEST(Simulator, WritesAReadableMcapWithEveryTopic) {
   EXPECT_EQ(count["/vigs/camera_info"], 21);
   EXPECT_EQ(count["/vigs/imu"], 201);
   EXPECT_EQ(count["/vigs/ground_truth/body_pose"], 201);
+  EXPECT_EQ(count["/vigs/ground_truth/dynamic_mask"], 21);
+  EXPECT_EQ(mask.encoding, "mono8");
+  EXPECT_EQ(mask.step, 720u);
+  EXPECT_EQ(mask.data, mem.masks.back());
   EXPECT_DOUBLE_EQ(info.k[0], 415.69219381653056);
   EXPECT_DOUBLE_EQ(info.k[2], 360.0);
   EXPECT_EQ(depth.encoding, "16UC1");
@@ -175,6 +190,51 @@ TEST(Simulator, GrayAnd32FC1DepthThroughTheMcapSink) {
   std::vector<float> metres(720 * 480);
   std::memcpy(metres.data(), depth.data.data(), depth.data.size());
   EXPECT_EQ(metres, mem.last_depth);  // bit-exact
+}
+
+/// The ground-truth person mask comes back from the file with its frame; a reader that does not
+/// ask for it sees the frames as before.
+TEST(Simulator, PersonMaskRoundTripsThroughTheFrameReader) {
+  vigs::test::TempFiles files("vigs_sim_mask");  // removed however the test ends
+  const std::string path = files.path("rec.mcap");
+  config::RobotConfig cfg = one_second();
+  cfg.sim.humans = 60;  // people in view from the start
+  vigs::test::use_default_camera_divided(cfg.camera, 3);
+  Simulator sim(cfg);
+  McapSink sink(path, McapSinkOptions{});
+  MemorySink mem;
+  TeeSink tee(sink, mem);
+  sim.run(tee);
+  sink.close();
+  ASSERT_EQ(mem.masks.size(), 21u);
+
+  std::size_t frames = 0, frames_with_people = 0;
+  io::for_each_recorded_frame(
+      path,
+      [&](const io::RecordedFrame& f) {
+        ASSERT_LT(f.index, mem.masks.size());
+        const std::vector<std::uint8_t>& truth = mem.masks[f.index];
+        ASSERT_NE(f.dynamic_mask, nullptr) << f.index;
+        ASSERT_EQ(truth.size(), static_cast<std::size_t>(f.view.width_px) * f.view.height_px);
+        EXPECT_TRUE(std::equal(truth.begin(), truth.end(), f.dynamic_mask)) << f.index;
+        EXPECT_TRUE(f.view.has_depth());
+        EXPECT_EQ(f.view.t_ns, mem.frame_t[f.index]);
+        frames_with_people += std::count(truth.begin(), truth.end(), 255) > 0;
+        ++frames;
+      },
+      std::string(io::topics::kRgb.name), std::string(io::topics::kCameraInfo.name),
+      std::string(io::topics::kDepth.name), io::kDepthPairToleranceNs,
+      std::string(io::topics::kDynamicMask.name));
+  EXPECT_EQ(frames, 21u);
+  EXPECT_GT(frames_with_people, 0u);
+
+  std::size_t plain = 0;
+  io::for_each_recorded_frame(path, [&](const io::RecordedFrame& f) {
+    EXPECT_EQ(f.dynamic_mask, nullptr);
+    EXPECT_TRUE(f.view.has_depth());
+    ++plain;
+  });
+  EXPECT_EQ(plain, 21u);
 }
 
 }  // namespace

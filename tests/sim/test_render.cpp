@@ -150,7 +150,73 @@ TEST(Render, DeterministicForASeedAndIndependentOfThreadCount) {
   EXPECT_EQ(fa.depth_m, fb.depth_m);
   EXPECT_EQ(fa.color, fs.color);
   EXPECT_EQ(fa.depth_m, fs.depth_m);
+  EXPECT_EQ(fa.dynamic_mask, fs.dynamic_mask);
   EXPECT_NE(fa.color, fo.color);
+}
+
+/// A wall 5 m ahead, one person standing 2 m ahead; the camera 1 m up, pitched 10 degrees up so
+/// that the person's feet (where person and floor meet) are out of view.
+struct OnePersonBeforeAWall {
+  Scene scene;
+  std::vector<Walker> person;
+  PinholeCamera camera{160, 120, 100.0, 100.0, 79.5, 59.5};
+  geometry::Pose T_w_c = geometry::Pose::Identity();
+  OnePersonBeforeAWall() {
+    scene.ceiling_z_m = 3.0f;
+    SceneBox wall;
+    wall.box.lo = Vec3f{5.0f, -20.0f, 0.0f};
+    wall.box.hi = Vec3f{5.2f, 20.0f, 3.0f};
+    scene.boxes.push_back(wall);
+    Walker w;  // paces along y through x = 2 m; standing still at (2, 0)
+    w.a = {2.0, -1.0};
+    w.b = {2.0, 1.0};
+    w.speed_mps = 0.0;
+    w.phase_m = 1.0;
+    person.push_back(w);
+    Eigen::Matrix3d R_w_c0;  // camera x right = -y, y down = -z, z forward = +x
+    R_w_c0.col(0) = Eigen::Vector3d(0, -1, 0);
+    R_w_c0.col(1) = Eigen::Vector3d(0, 0, -1);
+    R_w_c0.col(2) = Eigen::Vector3d(1, 0, 0);
+    T_w_c.linear() = Eigen::AngleAxisd(-10.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()) * R_w_c0;
+    T_w_c.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
+  }
+};
+
+TEST(Render, DynamicMaskIsSetExactlyWherePersonIsTheClosestSurface) {
+  const OnePersonBeforeAWall v;
+  RenderSettings exact;
+  exact.noise = false;
+  exact.hole_cos = exact.dropout_cos = 0.0f;  // no holes: every pixel has its surface's depth
+  const Renderer renderer(v.scene, v.camera, exact);
+  RgbdFrame with, without;
+  renderer.render(v.T_w_c, PeopleSnapshot(v.person, 0.0), 0, with);
+  renderer.render(v.T_w_c, PeopleSnapshot(), 0, without);
+  const std::size_t n = static_cast<std::size_t>(v.camera.width_px) * v.camera.height_px;
+  ASSERT_EQ(with.dynamic_mask.size(), n);
+  ASSERT_EQ(without.dynamic_mask.size(), n);
+  std::size_t person_px = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    // Ground truth, independently: the person is the closest surface exactly where removing
+    // them changes the (noise-free) depth.
+    const bool person = with.depth_m[i] != without.depth_m[i];
+    EXPECT_EQ(with.dynamic_mask[i], person ? 255 : 0) << i;
+    EXPECT_EQ(without.dynamic_mask[i], 0) << i;  // no people: all zero
+    if (with.dynamic_mask[i] != 0) {
+      ++person_px;
+      // The person's parts lie within 0.4 m of where they stand, 2 m ahead (z of d is 1
+      // there: the camera's axis is 10 degrees off the floor).
+      EXPECT_GT(with.depth_m[i], 1.5f) << i;
+      EXPECT_LT(with.depth_m[i], 2.5f) << i;
+    }
+  }
+  EXPECT_GT(person_px, 500u);   // a person 2 m away covers a good part of the view
+  EXPECT_LT(person_px, n / 2);  // and not all of it
+
+  // With the sensor model, noise and holes change colour and depth but not the ground truth.
+  const Renderer noisy(v.scene, v.camera, RenderSettings{});
+  RgbdFrame measured;
+  noisy.render(v.T_w_c, PeopleSnapshot(v.person, 0.0), 7, measured);
+  EXPECT_EQ(measured.dynamic_mask, with.dynamic_mask);
 }
 
 TEST(Render, CameraKeepsClearOfWallsFurnitureAndPeopleAlongTheWholeRoute) {

@@ -24,6 +24,7 @@ struct FrameBuffers {
   std::vector<std::uint8_t> rgb;  // bgr8 converted to rgb8
   std::vector<std::uint16_t> depth_u16;
   std::vector<float> depth_f32;
+  std::vector<std::uint8_t> mask;  // the dynamic mask without row padding
 };
 
 /// Gives the pending frame its depth when stamp and size match and the encoding is known.
@@ -72,16 +73,42 @@ void attach_depth(const io::ros_msgs::Image& img, bool pending, std::int64_t tol
   }
 }
 
+/// Gives the pending frame the mask of its stamp (exactly: the simulator writes both with one
+/// stamp); masks of other stamps are ignored. Returns whether it was attached. A mask of the
+/// frame's stamp that is not mono8 of the frame's size is an error.
+bool attach_mask(const io::ros_msgs::Image& img, bool pending, FrameBuffers& buf, RecordedFrame& f,
+                 const std::string& where) {
+  if (!pending || img.header.stamp.to_ns() != f.view.t_ns) return false;
+  const int w = f.view.width_px, h = f.view.height_px;
+  if (img.encoding != "mono8" || img.width != static_cast<std::uint32_t>(w) ||
+      img.height != static_cast<std::uint32_t>(h))
+    throw std::runtime_error(where + ": mask is " + std::to_string(img.width) + "x" +
+                             std::to_string(img.height) + " '" + img.encoding +
+                             "' but its frame is " + std::to_string(w) + "x" + std::to_string(h) +
+                             " (mono8 expected)");
+  io::ros_msgs::check_image(where, img, 1);
+  buf.mask.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  for (int y = 0; y < h; ++y)
+    std::memcpy(buf.mask.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w),
+                img.data.data() + static_cast<std::size_t>(y) * img.step,
+                static_cast<std::size_t>(w));
+  f.dynamic_mask = buf.mask.data();
+  return true;
+}
+
 }  // namespace
 
 McapFrameStats for_each_recorded_frame(const std::string& path,
                                        const std::function<void(const RecordedFrame&)>& fn,
                                        const std::string& rgb_topic, const std::string& info_topic,
                                        const std::string& depth_topic,
-                                       std::int64_t depth_tolerance_ns) {
+                                       std::int64_t depth_tolerance_ns,
+                                       const std::string& mask_topic) {
   McapFrameStats st;
   io::mcap::McapReaderOptions opt;
   opt.topics = {rgb_topic, info_topic, depth_topic};
+  const bool want_mask = !mask_topic.empty();
+  if (want_mask) opt.topics.insert(mask_topic);
   io::mcap::McapReader reader(path, opt);
   io::mcap::MessageView m;
   io::ros_msgs::CameraInfo info;
@@ -90,7 +117,8 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
   FrameBuffers buf;
   std::optional<PinholeCamera> camera;
   RecordedFrame f;
-  bool pending = false;  // f waits for its depth image
+  bool pending = false;                        // f waits for its depth image (and mask)
+  bool depth_seen = false, mask_seen = false;  // of the pending frame
   const auto flush = [&] {
     if (!pending) return;
     pending = false;
@@ -120,7 +148,13 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
       if (!io::ros_msgs::decode_message(m, img)) throw where("not sensor_msgs/Image");
       if (m.channel->topic == depth_topic) {
         attach_depth(img, pending, depth_tolerance_ns, buf, f, record());
-        flush();
+        depth_seen = true;
+        if (!want_mask || mask_seen) flush();
+        continue;
+      }
+      if (want_mask && m.channel->topic == mask_topic) {
+        mask_seen = mask_seen || attach_mask(img, pending, buf, f, record());
+        if (mask_seen && depth_seen) flush();
         continue;
       }
     } catch (const io::ros_msgs::DecodeError& e) {
@@ -150,6 +184,8 @@ McapFrameStats for_each_recorded_frame(const std::string& path,
     f.index = i;
     f.camera = *camera;
     f.view = RgbdView{};
+    f.dynamic_mask = nullptr;
+    depth_seen = mask_seen = false;
     f.view.t_ns = colour.header.stamp.to_ns();
     f.view.width_px = w;
     f.view.height_px = h;

@@ -6,7 +6,9 @@
 // the depth image on the depth topic when it directly follows and its stamp is within
 // `depth_tolerance_ns` of the colour's ("16UC1" millimetres or "32FC1" metres, copied out of
 // the message into a buffer reused from frame to frame; other encodings or sizes leave the
-// frame without depth). Stamps stay integer nanoseconds (header stamps).
+// frame without depth). Stamps stay integer nanoseconds (header stamps). Given a mask topic
+// (the simulator's io::topics::kDynamicMask), each frame also carries the mono8 mask of the
+// same stamp, copied into a reused buffer.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -31,6 +33,9 @@ struct RecordedFrame {
   /// t_ns = the colour image's header stamp; colour rgb8 or mono8; depth u16 (mm) or f32 (m),
   /// or none when not recorded.
   RgbdView view;
+  /// With a mask topic: width x height bytes, row-major, 255 where a person is the closest
+  /// surface; nullptr when the frame has no mask (or no mask topic was asked for).
+  const std::uint8_t* dynamic_mask = nullptr;
 };
 
 struct McapFrameStats {
@@ -47,11 +52,18 @@ struct McapFrameStats {
 /// encoding or an image whose size differs from its CameraInfo; io::IoError naming the record
 /// and field on a CameraInfo out of range (size, non-finite K, fx or fy <= 0) or an image whose
 /// step or data cannot hold its width x height (checked in 64 bits).
+///
+/// `mask_topic` empty (default): a frame is delivered when its depth message (paired or not)
+/// arrives, the next colour message does, or the file ends. Otherwise the frame also waits for
+/// its mask: delivered once both its depth and its mask have arrived, or at the next colour
+/// message or the end. A mask of another stamp is ignored (as if not recorded); one of the
+/// frame's stamp that is not mono8 of the frame's size is a std::runtime_error naming the file,
+/// topic and byte offset.
 McapFrameStats for_each_recorded_frame(
     const std::string& path, const std::function<void(const RecordedFrame&)>& fn,
     const std::string& rgb_topic = std::string(io::topics::kRgb.name),
     const std::string& info_topic = std::string(io::topics::kCameraInfo.name),
     const std::string& depth_topic = std::string(io::topics::kDepth.name),
-    std::int64_t depth_tolerance_ns = kDepthPairToleranceNs);
+    std::int64_t depth_tolerance_ns = kDepthPairToleranceNs, const std::string& mask_topic = {});
 
 }  // namespace vigs::io

@@ -90,6 +90,26 @@ void RecordingWriter::frame(std::int64_t t_ns, const PinholeCamera& cam,
   write_message(writer_, ch_depth_, t, depth, scratch_);
 }
 
+void RecordingWriter::dynamic_mask(std::int64_t t_ns, int width_px, int height_px,
+                                   std::span<const std::uint8_t> mask) {
+  using namespace ros_msgs;
+  if (width_px <= 0 || height_px <= 0 ||
+      mask.size() != static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px))
+    throw std::invalid_argument("dynamic mask of " + std::to_string(mask.size()) + " bytes for a " +
+                                std::to_string(width_px) + "x" + std::to_string(height_px) +
+                                " image");
+  if (ch_mask_ == 0) ch_mask_ = add_channel<Image>(writer_, topics::kDynamicMask.name);
+  Image img;
+  img.header.stamp = Time::from_ns(t_ns);
+  img.header.frame_id = topics::kDynamicMask.frame_id;
+  img.width = static_cast<std::uint32_t>(width_px);
+  img.height = static_cast<std::uint32_t>(height_px);
+  img.encoding = "mono8";
+  img.step = img.width;
+  img.data.assign(mask.begin(), mask.end());
+  write_message(writer_, ch_mask_, static_cast<std::uint64_t>(t_ns), img, scratch_);
+}
+
 void RecordingWriter::imu(const ImuSample& s, double gyro_variance_rps2,
                           double accel_variance_mps4) {
   using namespace ros_msgs;

@@ -1,8 +1,8 @@
 #pragma once
 // Writes a VIGS recording (io/recording_topics.hpp): camera_info, colour and depth with every
-// frame, IMU samples and the ground-truth body pose, each as its ROS 2 message (CDR) on its
-// declared topic. The simulator (sim/mcap_sink.hpp) and the dataset importers (io/import/)
-// write through it, so every producer writes the same layout.
+// frame, IMU samples, the ground-truth body pose and (simulator) person mask, each as its ROS 2
+// message (CDR) on its declared topic. The simulator (sim/mcap_sink.hpp) and the dataset importers
+// (io/import/) write through it, so every producer writes the same layout.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -34,6 +34,12 @@ class RecordingWriter {
   /// One IMU sample with the diagonal noise variances it is published with; a negative
   /// gyro_variance marks the angular velocity as not measured (ROS: covariance[0] = -1).
   void imu(const ImuSample& sample, double gyro_variance_rps2, double accel_variance_mps4);
+  /// Ground-truth mask of the frame at t_ns (io::topics::kDynamicMask): mono8, 255 where a
+  /// moving person is the closest surface, width x height row-major. Its channel is added at the
+  /// first call, so recordings without masks (importers) declare no empty mask topic.
+  /// Throws std::invalid_argument when the mask does not hold width x height pixels.
+  void dynamic_mask(std::int64_t t_ns, int width_px, int height_px,
+                    std::span<const std::uint8_t> mask);
   /// Ground-truth body pose T_w_b.
   void ground_truth(std::int64_t t_ns, const geometry::Pose& T_w_b);
   /// Writes the summary and renames the file into place. Throws io::IoError.
@@ -46,6 +52,7 @@ class RecordingWriter {
   std::string path_;
   mcap::McapWriter writer_;
   std::uint16_t ch_info_, ch_rgb_, ch_depth_, ch_imu_, ch_gt_;
+  std::uint16_t ch_mask_ = 0;  ///< 0 until the first dynamic_mask()
   std::vector<std::uint8_t> scratch_;
 };
 
