@@ -66,8 +66,51 @@ double masked_psnr(const ImageU8& a, const ImageU8& b, const std::vector<double>
   return 10.0 * std::log10(255.0 * 255.0 * static_cast<double>(n) / se);
 }
 
+/// Mean of the non-NaN values, NaN when there are none.
+double mean_of_measured(const std::vector<double>& v) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (const double x : v) {
+    if (std::isnan(x)) continue;
+    sum += x;
+    ++n;
+  }
+  return n == 0 ? std::numeric_limits<double>::quiet_NaN() : sum / static_cast<double>(n);
+}
+
+struct StaticPsnr {
+  double whole_db = std::numeric_limits<double>::quiet_NaN();
+  double valid_depth_db = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// PSNR over the pixels no person covers (`person` 255 = a person, ground truth), and over
+/// those that also have valid depth (`depth_m` null: the frame has none). `mask` is scratch.
+StaticPsnr static_psnr(const ImageU8& recorded, const ImageU8& rendered, const std::uint8_t* person,
+                       const ImageF32* depth_m, std::vector<double>& mask) {
+  StaticPsnr out;
+  const std::size_t n = static_cast<std::size_t>(recorded.width) * recorded.height;
+  mask.resize(n);
+  for (std::size_t p = 0; p < n; ++p) mask[p] = person[p] == 0 ? 1.0 : 0.0;
+  out.whole_db = masked_psnr(recorded, rendered, mask);
+  if (depth_m == nullptr) return out;
+  for (std::size_t p = 0; p < n; ++p)
+    if (!(depth_m->data[p] > 0)) mask[p] = 0.0;
+  out.valid_depth_db = masked_psnr(recorded, rendered, mask);
+  return out;
+}
+
 }  // namespace
 
+std::size_t QualitySet::frames_with_dynamic_mask() const {
+  return static_cast<std::size_t>(std::count_if(psnr_static_db.begin(), psnr_static_db.end(),
+                                                [](double v) { return !std::isnan(v); }));
+}
+double QualitySet::mean_psnr_static_db() const {
+  return mean_of_measured(psnr_static_db);
+}
+double QualitySet::mean_psnr_static_valid_depth_db() const {
+  return mean_of_measured(psnr_static_valid_depth_db);
+}
 double QualitySet::mean_psnr_db() const {
   return mean_of(psnr_db);
 }
@@ -110,10 +153,10 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
   mapping::SsimOptions so;  // the convention of mapping::image_quality with kGaussian11
   so.data_range = 255.0;
   mapping::Ssim<double> masked_ssim(so);
-  std::vector<double> ref, test, mask;
+  std::vector<double> ref, test, mask, static_mask;
   ImageU8 f_rgb;       // the frame's colour as RGB
   ImageF32 f_depth_m;  // and depth, 0 = no measurement
-  const auto stats = io::for_each_recorded_frame(mcap_path, [&](const io::RecordedFrame& rec) {
+  const auto on_frame = [&](const io::RecordedFrame& rec) {
     const double t_s = static_cast<double>(rec.view.t_ns) * 1e-9;  // header stamp
     const bool keyframe = keyframe_t_s && near_any(*keyframe_t_s, t_s, opt.keyframe_tol_s);
     if (keyframe) ++q.keyframe_frames;
@@ -155,6 +198,10 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
                                       mask.data(), nullptr);
       }
     }
+    StaticPsnr psnr_s;  // NaN without a person mask
+    if (rec.dynamic_mask != nullptr)
+      psnr_s = static_psnr(f_rgb, rendered, rec.dynamic_mask, has_depth ? &f_depth_m : nullptr,
+                           static_mask);
     q.image_width = f_rgb.width;
     q.image_height = f_rgb.height;
     for (auto [set, on] : {std::pair{&q.every_nth, in_nth}, std::pair{&q.held_out, in_held_out}}) {
@@ -163,6 +210,8 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
       set->psnr_db.push_back(iq.psnr_db);
       set->ssim.push_back(iq.ssim);
       set->psnr_valid_depth_by_frame.push_back(psnr_v);
+      set->psnr_static_db.push_back(psnr_s.whole_db);
+      set->psnr_static_valid_depth_db.push_back(psnr_s.valid_depth_db);
       if (!std::isnan(psnr_v)) {
         set->psnr_valid_depth_db.push_back(psnr_v);
         set->ssim_valid_depth.push_back(ssim_v);
@@ -182,7 +231,12 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
           }
       q.side_by_side_t_s.push_back(t_s);
     }
-  });
+  };
+  // With the person mask: the pixels no person covers are measured too.
+  const auto stats = io::for_each_recorded_frame(
+      mcap_path, on_frame, std::string(io::topics::kRgb.name),
+      std::string(io::topics::kCameraInfo.name), std::string(io::topics::kDepth.name),
+      io::kDepthPairToleranceNs, std::string(io::topics::kDynamicMask.name));
   q.damage = stats.damage;
   q.recorded_frames = stats.frames + stats.without_camera_info;
   q.frames_without_camera_info = stats.without_camera_info;
@@ -210,15 +264,21 @@ std::string render_quality_markdown(const RenderQuality& q, const RenderQualityO
         std::to_string(q.keyframe_frames) + " of them keyframes.\n\n";
   md +=
       "| set | frames | mean PSNR [dB] | min PSNR [dB] | mean SSIM | frames with depth | mean "
-      "PSNR, valid depth [dB] | mean SSIM, valid depth |\n|---|---|---|---|---|---|---|---|\n";
+      "PSNR, valid depth [dB] | mean SSIM, valid depth | frames with person mask | mean PSNR, "
+      "static [dB] | mean PSNR, static, valid depth [dB] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  // "-" where nothing was measured (no frame with depth or mask, or an exact match: inf dB).
+  const auto db = [](double v) { return std::isfinite(v) ? fmt("%.2f", v) : std::string("-"); };
   const auto row = [&](const std::string& name, const QualitySet& s) {
-    if (s.frames() == 0) return "| " + name + " | 0 | - | - | - | 0 | - | - |\n";
+    if (s.frames() == 0) return "| " + name + " | 0 | - | - | - | 0 | - | - | 0 | - | - |\n";
     const std::size_t nd = s.psnr_valid_depth_db.size();
     return "| " + name + " | " + std::to_string(s.frames()) + " | " +
            fmt("%.2f", s.mean_psnr_db()) + " | " + fmt("%.2f", s.min_psnr_db()) + " | " +
            fmt("%.4f", s.mean_ssim()) + " | " + std::to_string(nd) + " | " +
            (nd ? fmt("%.2f", s.mean_psnr_valid_depth_db()) : std::string("-")) + " | " +
-           (nd ? fmt("%.4f", s.mean_ssim_valid_depth()) : std::string("-")) + " |\n";
+           (nd ? fmt("%.4f", s.mean_ssim_valid_depth()) : std::string("-")) + " | " +
+           std::to_string(s.frames_with_dynamic_mask()) + " | " + db(s.mean_psnr_static_db()) +
+           " | " + db(s.mean_psnr_static_valid_depth_db()) + " |\n";
   };
   md += row("every " + std::to_string(opt.every) + "th frame", q.every_nth);
   if (have_keyframes) md += row("held-out (never keyframes)", q.held_out);
@@ -229,6 +289,12 @@ std::string render_quality_markdown(const RenderQuality& q, const RenderQualityO
     md += "- Held-out frames: farther than " + fmt("%.3g", opt.keyframe_tol_s) +
           " s from every keyframe stamp; every " + std::to_string(opt.every) +
           "th of them is used.\n";
+  md +=
+      "- Static: the pixels no walking person covers, from the recording's ground-truth "
+      "person mask (`" +
+      std::string(io::topics::kDynamicMask.name) +
+      "`, written by the simulator): the map leaves people out by design, so this is its "
+      "quality on the static scene; without the mask, not measured.\n";
   if (q.frames_without_pose > 0)
     md += "- " + std::to_string(q.frames_without_pose) +
           " selected frames had no estimated pose within " + fmt("%.3g", opt.max_dt_s) +

@@ -9,10 +9,13 @@
 //               n-th (counted among those frames only) is used.
 // When the recording has a depth image for the frame, PSNR and SSIM are also given over the
 // pixels with valid depth only (SSIM: windows whose centre pixel has depth), the parts of the
-// scene a depth-fed map can hold. Means are per-frame means (PSNR averaged in dB, as 3DGS SLAM
-// papers report). Frames without an estimated pose within max_dt_s are skipped and counted. The map
-// is rendered in its own world frame at the unaligned estimate (the map and the estimate share one
-// frame).
+// scene a depth-fed map can hold. When the recording has the simulator's ground-truth person
+// mask for the frame (io::topics::kDynamicMask), PSNR is also given over the pixels without a
+// person, and over those with valid depth too: the map leaves walking people out by design, so
+// frames with people close by would otherwise measure the people, not the map. Means are
+// per-frame means (PSNR averaged in dB, as 3DGS SLAM papers report). Frames without an estimated
+// pose within max_dt_s are skipped and counted. The map is rendered in its own world frame at
+// the unaligned estimate (the map and the estimate share one frame).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -39,7 +42,15 @@ struct QualitySet {
   std::vector<double> ssim_valid_depth;
   /// psnr_valid_depth_db frame by frame, one per t_s: NaN for a frame without a depth image
   std::vector<double> psnr_valid_depth_by_frame;
+  /// One per t_s, NaN for a frame without a person mask: PSNR over the pixels no person covers
+  /// (the static scene), and over those that also have valid depth (NaN without depth too).
+  std::vector<double> psnr_static_db;
+  std::vector<double> psnr_static_valid_depth_db;
   [[nodiscard]] std::size_t frames() const { return t_s.size(); }
+  [[nodiscard]] std::size_t frames_with_dynamic_mask() const;
+  /// Means over the frames with a value (NaN when none has).
+  [[nodiscard]] double mean_psnr_static_db() const;
+  [[nodiscard]] double mean_psnr_static_valid_depth_db() const;
   [[nodiscard]] double mean_psnr_db() const;
   [[nodiscard]] double mean_ssim() const;
   [[nodiscard]] double min_psnr_db() const;

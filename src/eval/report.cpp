@@ -330,11 +330,17 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
     s["frames_with_depth"] = q.psnr_valid_depth_db.size();
     s["psnr_valid_depth_db"] = io::finite_or_null(q.mean_psnr_valid_depth_db());
     s["ssim_valid_depth"] = io::finite_or_null(q.mean_ssim_valid_depth());
+    // Over the pixels no person covers (the simulator's ground-truth mask; null without it).
+    s["frames_with_dynamic_mask"] = q.frames_with_dynamic_mask();
+    s["psnr_static_db"] = io::finite_or_null(q.mean_psnr_static_db());
+    s["psnr_static_valid_depth_db"] = io::finite_or_null(q.mean_psnr_static_valid_depth_db());
     // Per frame, in time order: where along the run the map renders well or badly (a drift
     // seen on a revisit, an area trained less, people in view). Whole frame, and PSNR over
-    // valid depth (null for a frame without a depth image).
+    // valid depth (null for a frame without a depth image), and over the static scene (null
+    // for a frame without a person mask).
     io::Json t = io::Json::array(), psnr = io::Json::array(), ssim = io::Json::array(),
-             psnr_valid = io::Json::array();
+             psnr_valid = io::Json::array(), psnr_static = io::Json::array(),
+             psnr_static_valid = io::Json::array();
     const auto value = [](double v, int digits) {
       return std::isfinite(v) ? io::fixed(v, digits) : io::Json(nullptr);
     };
@@ -345,11 +351,18 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
       psnr_valid.push_back(i < q.psnr_valid_depth_by_frame.size()
                                ? value(q.psnr_valid_depth_by_frame[i], 3)
                                : io::Json(nullptr));
+      psnr_static.push_back(i < q.psnr_static_db.size() ? value(q.psnr_static_db[i], 3)
+                                                        : io::Json(nullptr));
+      psnr_static_valid.push_back(i < q.psnr_static_valid_depth_db.size()
+                                      ? value(q.psnr_static_valid_depth_db[i], 3)
+                                      : io::Json(nullptr));
     }
     s["per_frame"] = io::Json{{"t_s", std::move(t)},
                               {"psnr_db", std::move(psnr)},
                               {"ssim", std::move(ssim)},
-                              {"psnr_valid_depth_db", std::move(psnr_valid)}};
+                              {"psnr_valid_depth_db", std::move(psnr_valid)},
+                              {"psnr_static_db", std::move(psnr_static)},
+                              {"psnr_static_valid_depth_db", std::move(psnr_static_valid)}};
     return s;
   };
   j["plots"] = r.plots;

@@ -16,12 +16,15 @@
 #include "../common/scaled_camera.hpp"
 #include "core/config/robot_config.hpp"
 #include "eval/report.hpp"
+#include "eval/trajectory_file.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image_io.hpp"
+#include "io/recording/recording_writer.hpp"
 #include "io/tum_trajectory.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/ply_io.hpp"
+#include "mapping/rasterizer.hpp"
 #include "mapping/rgbd_keyframe.hpp"
 #include "sim/mcap_sink.hpp"
 #include "sim/simulator.hpp"
@@ -136,6 +139,7 @@ class RenderReportTest : public ::testing::Test {
     for (int it = 0; it < 100; ++it)
       opt.iterate(map, views[static_cast<std::size_t>(it) % views.size()].view);
     gaussians_ = map.size();
+    camera_ = k;
     mapping::write_gaussian_ply((dir_ / pipeline::kMapFile).string(), map);
     io::write_tum_trajectory((dir_ / pipeline::kTrajectoryFile).string(), truth);
     io::write_tum_trajectory((dir_ / "trajectory_perturbed.tum").string(), perturbed);
@@ -170,6 +174,7 @@ class RenderReportTest : public ::testing::Test {
   static inline std::size_t frames_ = 0, gaussians_ = 0;
   static inline std::vector<double> keyframes_;
   static inline geometry::Pose T_b_c_ = geometry::Pose::Identity();
+  static inline PinholeCamera camera_;
 };
 
 TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
@@ -311,6 +316,124 @@ TEST_F(RenderReportTest, MissingOptionalFilesAreReportedNotInvented) {
     FAIL();
   } catch (const pipeline::ResultsFileError& e) {
     EXPECT_NE(std::string(e.what()).find("stats.json: byte 8"), std::string::npos) << e.what();
+  }
+}
+
+/// The map rendered at T_w_c as measure_render_quality renders it, rounded to 8 bits.
+std::vector<std::uint8_t> render_u8(const mapping::GaussianMap& map, const PinholeCamera& camera,
+                                    const geometry::Pose& T_w_c) {
+  mapping::Rasterizer<float> ras(mapping::RasterSettings{});
+  mapping::RenderResult<float> r;
+  ras.forward(map, mapping::RenderCamera::from(camera, T_w_c), r);
+  std::vector<std::uint8_t> out(r.color.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(r.color[i], 0.0f, 1.0f)));
+  return out;
+}
+
+// The map leaves walking people out by design. A recording whose static pixels are the map's
+// own render (each channel off by exactly 2 grey levels: PSNR 20 log10(255 / 2) = 42.11 dB)
+// and whose "person" pixels are far off: over the static scene the PSNR is the map's 42.11 dB,
+// over the whole frame far lower. Frame 0 has the person and their mask, frame 1 no person and
+// an all-zero mask (static = whole frame), frame 2 the person and no mask (not measured). The
+// left eighth of every frame has no depth.
+TEST_F(RenderReportTest, PsnrOverTheStaticSceneLeavesThePersonMaskOut) {
+  const fs::path d = dir_ / "person_mask";
+  fs::create_directories(d);
+  fs::copy_file(dir_ / pipeline::kMapFile, d / pipeline::kMapFile);
+  const Trajectory all = load_trajectory_file((dir_ / pipeline::kTrajectoryFile).string());
+  ASSERT_GE(all.poses.size(), 21u);
+  std::vector<io::TumPose> est;
+  for (const std::size_t i : {0u, 10u, 20u}) {
+    const TimedPose& p = all.poses[i];
+    est.push_back({p.t_s, p.T_w_x.translation(), Eigen::Quaterniond(p.T_w_x.linear())});
+  }
+  io::write_tum_trajectory((d / pipeline::kTrajectoryFile).string(), est);
+  // The poses as the evaluation reads them back, to render exactly what it renders.
+  const Trajectory cam = load_trajectory_file((d / pipeline::kTrajectoryFile).string());
+  const mapping::GaussianMap map = mapping::read_gaussian_ply((d / pipeline::kMapFile).string());
+  const int w = camera_.width_px, h = camera_.height_px;
+  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  const std::string rec = (d / "seq.mcap").string();
+  {
+    io::RecordingWriter writer(rec, io::RecordingWriterOptions{});
+    for (std::size_t f = 0; f < cam.poses.size(); ++f) {
+      const auto t_ns = static_cast<std::int64_t>(std::llround(cam.poses[f].t_s * 1e9));
+      writer.ground_truth(t_ns, cam.poses[f].T_w_x * T_b_c_.inverse());
+      std::vector<std::uint8_t> colour = render_u8(map, camera_, cam.poses[f].T_w_x);
+      std::vector<std::uint8_t> person(n, 0);
+      std::vector<float> depth_m(n, 1.5f);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const std::size_t p = static_cast<std::size_t>(y) * w + x;
+          if (x < w / 8) depth_m[p] = 0.0f;
+          // Frames 0 and 2: a person in the middle third, close enough to fill 3/4 of its height.
+          const bool on_person = f != 1 && x >= w / 3 && x < 2 * w / 3 && y >= h / 4;
+          person[p] = on_person ? 255 : 0;
+          for (int c = 0; c < 3; ++c) {
+            std::uint8_t& v = colour[3 * p + static_cast<std::size_t>(c)];
+            v = static_cast<std::uint8_t>(on_person ? v + 128 : v < 128 ? v + 2 : v - 2);
+          }
+        }
+      writer.frame(t_ns, camera_, colour, false, depth_m);
+      if (f != 2) writer.dynamic_mask(t_ns, w, h, person);
+    }
+    writer.close();
+  }
+  ReportOptions opt = options(d, pipeline::kTrajectoryFile);
+  opt.gt_path = rec;
+  opt.quality.every = 1;
+  const ReportResult r = write_report(opt);
+  ASSERT_TRUE(r.quality_measured);
+  const QualitySet& q = r.quality.every_nth;
+  ASSERT_EQ(q.frames(), 3u);
+  ASSERT_EQ(q.psnr_static_db.size(), 3u);
+  ASSERT_EQ(q.psnr_static_valid_depth_db.size(), 3u);
+  const double map_db = 20.0 * std::log10(255.0 / 2.0);
+  std::cout << "frame with a person: PSNR " << q.psnr_db[0] << " dB, valid depth "
+            << q.psnr_valid_depth_by_frame[0] << " dB; static " << q.psnr_static_db[0]
+            << " dB, static valid depth " << q.psnr_static_valid_depth_db[0] << " dB\n";
+  // Frame 0: the person pixels count in the whole frame, not over the static scene.
+  EXPECT_LT(q.psnr_db[0], 20.0);
+  EXPECT_LT(q.psnr_valid_depth_by_frame[0], 20.0);
+  EXPECT_NEAR(q.psnr_static_db[0], map_db, 1e-6);
+  EXPECT_NEAR(q.psnr_static_valid_depth_db[0], map_db, 1e-6);
+  // Frame 1: an empty mask, so the static figures are the existing ones.
+  EXPECT_NEAR(q.psnr_db[1], map_db, 1e-6);
+  EXPECT_NEAR(q.psnr_static_db[1], q.psnr_db[1], 1e-9);
+  EXPECT_DOUBLE_EQ(q.psnr_static_valid_depth_db[1], q.psnr_valid_depth_by_frame[1]);
+  // Frame 2: the same person but no mask: not measured, the existing figures as frame 0's.
+  EXPECT_TRUE(std::isnan(q.psnr_static_db[2]));
+  EXPECT_TRUE(std::isnan(q.psnr_static_valid_depth_db[2]));
+  EXPECT_NEAR(q.psnr_db[2], q.psnr_db[0], 1.0);
+  EXPECT_EQ(q.frames_with_dynamic_mask(), 2u);
+  EXPECT_NEAR(q.mean_psnr_static_db(), map_db, 1e-6);
+  EXPECT_NEAR(q.mean_psnr_static_valid_depth_db(), map_db, 1e-6);
+
+  // `vigs eval run`'s JSON: means over the frames with a mask, per frame null without one.
+  const auto j = nlohmann::json::parse(report_json(r, opt));
+  const auto& s = j.at("quality").at("every_nth");
+  EXPECT_EQ(s.at("frames_with_dynamic_mask").get<int>(), 2);
+  EXPECT_NEAR(s.at("psnr_static_db").get<double>(), map_db, 1e-3);
+  EXPECT_NEAR(s.at("psnr_static_valid_depth_db").get<double>(), map_db, 1e-3);
+  const auto& per_frame = s.at("per_frame");
+  ASSERT_EQ(per_frame.at("psnr_static_db").size(), 3u);
+  ASSERT_EQ(per_frame.at("psnr_static_valid_depth_db").size(), 3u);
+  EXPECT_NEAR(per_frame["psnr_static_db"][0].get<double>(), map_db, 1e-3);
+  EXPECT_NEAR(per_frame["psnr_static_valid_depth_db"][1].get<double>(), map_db, 1e-3);
+  EXPECT_TRUE(per_frame["psnr_static_db"][2].is_null());
+  EXPECT_TRUE(per_frame["psnr_static_valid_depth_db"][2].is_null());
+  // and the report's table.
+  const std::string md = read_all(r.report_path);
+  EXPECT_NE(md.find(" | 2 | 42.11 | 42.11 |\n"), std::string::npos) << md;
+
+  // The first suite's recording has masks too, all zero (no people): static = whole frame.
+  const ReportResult plain = write_report(options(dir_, pipeline::kTrajectoryFile));
+  const QualitySet& p = plain.quality.every_nth;
+  ASSERT_EQ(p.frames_with_dynamic_mask(), p.frames());
+  for (std::size_t i = 0; i < p.frames(); ++i) {
+    EXPECT_NEAR(p.psnr_static_db[i], p.psnr_db[i], 1e-9) << i;
+    EXPECT_DOUBLE_EQ(p.psnr_static_valid_depth_db[i], p.psnr_valid_depth_by_frame[i]) << i;
   }
 }
 
