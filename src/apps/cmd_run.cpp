@@ -149,12 +149,14 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
                            {"imu_samples", rec.written.imu_samples},
                            {"serial_bytes", rec.written.serial_bytes},
                            {"poses", rec.written.poses},
+                           {"edges", rec.written.edges},
                            {"bytes", rec.written.bytes_written},
                            {"chunks", rec.written.chunks},
                            {"frame_tap_drops", rec.frame_tap_drops},
                            {"imu_tap_drops", rec.imu_tap_drops},
                            {"serial_tap_drops", rec.serial_tap_drops},
                            {"pose_tap_drops", rec.pose_tap_drops},
+                           {"edge_tap_drops", rec.edge_tap_drops},
                            {"tap_drops", rec.tap_drops()}};
   }
   if (r.camera_driver) s["camera_driver"] = drivers::to_json_value(*r.camera_driver);

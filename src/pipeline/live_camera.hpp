@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "core/config/robot_config.hpp"
 #include "drivers/common/rgbd_driver_counters.hpp"
@@ -55,6 +56,9 @@ class LiveCamera {
 
   /// The recorder's frame tap; set before start().
   void set_tap(rt::SpscRing<rt::FrameHandle>* tap) noexcept;
+  /// The recorder's tap of the GPIO trigger's edges (full: the newest edge is dropped and counted
+  /// in trigger_counters().tap_dropped); set before start(). Without a trigger: nothing.
+  void set_edge_tap(rt::SpscRing<drivers::TriggerEdge>* tap) noexcept;
   /// Starts the trigger (if any), then the camera; throws naming the device, chip or line (and
   /// leaves neither running).
   void start();
@@ -70,6 +74,8 @@ class LiveCamera {
   [[nodiscard]] std::uint64_t losses() const noexcept;
   /// With the trigger: its edges, and how frames matched them.
   [[nodiscard]] bool triggered() const noexcept { return trigger_ != nullptr; }
+  /// "chip:line" of the trigger ("" without one), as `vigs record` names the edges' source.
+  [[nodiscard]] const std::string& trigger_source() const noexcept { return trigger_source_; }
   [[nodiscard]] std::optional<drivers::GpioTriggerCounters> trigger_counters() const noexcept;
   [[nodiscard]] std::optional<drivers::TriggerMatchCounters> trigger_match_counters()
       const noexcept;
@@ -84,6 +90,7 @@ class LiveCamera {
   std::unique_ptr<drivers::GpioTrigger> trigger_;
   std::unique_ptr<drivers::TriggerMatcher> matcher_;
   int trigger_event_fd_ = -1;
+  std::string trigger_source_;
 };
 
 }  // namespace vigs::pipeline

@@ -12,6 +12,7 @@
 
 #include "dds/dds_config.hpp"
 #include "dds/pose_publisher.hpp"
+#include "drivers/common/trigger_edge.hpp"
 #include "drivers/serial_imu/serial_imu_driver.hpp"
 #include "pipeline/live_camera.hpp"
 #include "pipeline/live_mapper.hpp"
@@ -37,6 +38,7 @@ struct RecordTaps {
   rt::SpscRing<ImuSample> imu{4096};
   rt::SpscRing<drivers::SerialBytes> bytes{1024};
   rt::SpscRing<record::RecordedPose> poses{kPoseRing};  // the main thread fills it (results)
+  rt::SpscRing<drivers::TriggerEdge> edges{256};  // the GPIO trigger's, as `vigs record` taps them
   std::uint64_t pose_drops = 0;
 };
 
@@ -191,6 +193,10 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
       recorder->add_imu(taps->imu);
       recorder->add_serial(taps->bytes, ims.port);
       recorder->add_poses(taps->poses, cfg.dds.map_frame_id);
+      if (camera_driver->triggered()) {  // the frame-sync edges, as `vigs record` writes them
+        camera_driver->set_edge_tap(&taps->edges);
+        recorder->add_edges(taps->edges, camera_driver->trigger_source());
+      }
     }
   }
   if (o.mapping) handoff.emplace(kKeyframeSlots, camera.width_px * camera.height_px);
@@ -303,6 +309,7 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     c.imu_tap_drops = f.tap_sample_drops;
     c.serial_tap_drops = f.tap_byte_drops;
     c.pose_tap_drops = taps->pose_drops;
+    if (const auto t = camera_driver->trigger_counters()) c.edge_tap_drops = t->tap_dropped;
     return c;
   };
   const auto drain = [&] {

@@ -77,8 +77,9 @@ struct LiveRecordResult {
   record::RecorderStats written;
   std::uint64_t frame_tap_drops = 0, imu_tap_drops = 0, serial_tap_drops = 0;
   std::uint64_t pose_tap_drops = 0;
+  std::uint64_t edge_tap_drops = 0;  ///< the GPIO trigger's edges (with camera.trigger_chip)
   [[nodiscard]] std::uint64_t tap_drops() const noexcept {
-    return frame_tap_drops + imu_tap_drops + serial_tap_drops + pose_tap_drops;
+    return frame_tap_drops + imu_tap_drops + serial_tap_drops + pose_tap_drops + edge_tap_drops;
   }
 };
 

@@ -6,7 +6,8 @@
 // The scene is static: a room corner (floor, back and side wall) seen by a camera at rest.
 // Checked: frames flow through the V4L2 driver into the tracker and out as poses; with the
 // trigger the `gpio_trigger` thread runs, counts every edge and each tracked frame carries its
-// edge's stamp; every pipeline thread is gone once run_live returns. DDS on loopback, domain 186.
+// edge's stamp; recorded (`vigs run --record`), the edges are in the file; every pipeline thread
+// is gone once run_live returns. DDS on loopback, domains 186-188.
 #include <dirent.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -29,7 +30,11 @@
 #include "drivers/serial_imu/pseudo_terminal.hpp"
 #include "drivers/serial_imu/xsens_encoder.hpp"
 #include "fake_v4l2_device.hpp"
+#include "io/mcap/mcap_reader.hpp"
+#include "io/ros_msgs/time_reference.hpp"
+#include "io/ros_msgs/typed_io.hpp"
 #include "pipeline/live_pipeline.hpp"
+#include "record/recorder.hpp"
 #include "rt/clock.hpp"
 #include "sim_sequence.hpp"
 #include "tests/common/test_pipe.hpp"
@@ -41,6 +46,7 @@ using drivers::testing::FakeV4l2Device;
 
 const std::string kDepthNode = "/dev/v4l/by-id/fake-rgbd-depth";
 const std::string kColourNode = "/dev/v4l/by-id/fake-rgbd-colour";
+// One DDS domain per test (ctest runs them in parallel): 186, 187, 188.
 constexpr int kDomain = 186;
 constexpr int kFrames = 60;       // 3 s at 20 Hz
 constexpr int kImuPerFrame = 10;  // 200 Hz
@@ -112,8 +118,9 @@ struct RunOutcome {
   std::multiset<std::string> threads_after;
 };
 
-// run_live on the fake V4L2 camera (+ the trigger's pipe) and the pty IMU for kFrames frames.
-RunOutcome run_fake_live(bool trigger) {
+// run_live on the fake V4L2 camera (+ the trigger's pipe) and the pty IMU for kFrames frames;
+// recording into `record_path` (`vigs run --record`) unless it is empty.
+RunOutcome run_fake_live(bool trigger, int domain, const std::string& record_path = {}) {
   const dds::test::ShmJanitor janitor;
   drivers::PseudoTerminal pty;
   // A pipeline that failed reads nothing: a full pty then drops bytes instead of blocking.
@@ -155,7 +162,8 @@ RunOutcome run_fake_live(bool trigger) {
 
   LiveOptions o;
   o.mapping = false;
-  o.dds_domain = kDomain;
+  o.dds_domain = domain;
+  o.record_path = record_path;
   o.camera_seams.v4l2_ops = &fake;
   if (trigger) o.camera_seams.trigger_event_fd = edges.r;
   std::atomic<int> stop{0};
@@ -241,7 +249,7 @@ void expect_frames_tracked_and_threads_joined(const RunOutcome& o) {
 }
 
 TEST(LiveV4l2, FramesFromAV4l2CameraAndGpioTriggerReachTheTracker) {
-  const RunOutcome o = run_fake_live(true);
+  const RunOutcome o = run_fake_live(true, kDomain);
   expect_frames_tracked_and_threads_joined(o);
   const LiveResult& r = o.result;
   // The gpio_trigger thread ran, read every edge, and the frames were restamped with them.
@@ -260,8 +268,36 @@ TEST(LiveV4l2, FramesFromAV4l2CameraAndGpioTriggerReachTheTracker) {
   EXPECT_GT(on_edge, 0u) << "tracked frames stamped with their edges";
 }
 
+// `vigs run --record` with the frame sync writes its edges as `vigs record` does: one
+// /vigs/camera/trigger TimeReference per edge read, stamped with it, source "chip:line".
+TEST(LiveV4l2, RecordingALiveRunKeepsTheTriggerEdges) {
+  const testing::TempDir dir;
+  const std::string path = dir.file("run.mcap");
+  const RunOutcome o = run_fake_live(true, kDomain + 2, path);
+  const LiveResult& r = o.result;
+  ASSERT_TRUE(r.trigger.has_value() && r.record.has_value());
+  EXPECT_EQ(r.trigger->tap_dropped, 0u);
+  EXPECT_EQ(r.record->written.edges, r.trigger->rising);
+  io::mcap::McapReader reader(path);
+  io::mcap::MessageView m;
+  std::set<std::int64_t> recorded_ns;
+  while (reader.next(m)) {
+    if (m.channel->topic != record::kTriggerTopic) continue;
+    io::ros_msgs::TimeReference ref;
+    ASSERT_TRUE(io::ros_msgs::decode_message(m, ref));
+    EXPECT_EQ(ref.source, "gpiochip7:17");
+    EXPECT_EQ(static_cast<std::int64_t>(m.log_time_ns), ref.time_ref.to_ns());
+    recorded_ns.insert(ref.time_ref.to_ns());
+  }
+  EXPECT_TRUE(reader.issues().empty());
+  EXPECT_EQ(recorded_ns.size(), r.trigger->rising);
+  EXPECT_FALSE(recorded_ns.empty());
+  // The kernel's stamps of the edges the pipe carried, to the nanosecond.
+  for (const std::int64_t t_ns : recorded_ns) EXPECT_EQ(o.edge_stamps_ns.count(t_ns), 1u) << t_ns;
+}
+
 TEST(LiveV4l2, FramesFromAV4l2CameraWithoutTriggerKeepTheirKernelStamps) {
-  const RunOutcome o = run_fake_live(false);
+  const RunOutcome o = run_fake_live(false, kDomain + 1);
   expect_frames_tracked_and_threads_joined(o);
   const LiveResult& r = o.result;
   EXPECT_FALSE(r.trigger.has_value());
