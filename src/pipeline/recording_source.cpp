@@ -72,11 +72,13 @@ std::uint64_t RecordingSource::frame_count(const std::string& path) {
   io::mcap::McapReaderOptions options;
   options.topics = {topic};
   io::mcap::McapReader reader(path, options);
+  // The summary's count when it has one for the colour channel; a summary without the channel's
+  // record (the spec allows it) or its count is no answer: then the messages are counted.
   if (const auto& st = reader.statistics()) {
-    const io::mcap::Channel* channel = reader.find_channel(topic);
-    if (channel == nullptr) return 0;
-    const auto it = st->channel_message_counts.find(channel->id);
-    if (it != st->channel_message_counts.end()) return it->second;
+    if (const io::mcap::Channel* channel = reader.find_channel(topic)) {
+      const auto it = st->channel_message_counts.find(channel->id);
+      if (it != st->channel_message_counts.end()) return it->second;
+    }
   }
   std::uint64_t n = 0;
   io::mcap::MessageView m;

@@ -22,8 +22,10 @@
 #include "../dds/shm_janitor.hpp"
 #include "eval/trajectory_file.hpp"
 #include "io/json_text.hpp"
+#include "io/recording/recorded_frames.hpp"
 #include "mapping/ply_io.hpp"
 #include "pipeline/live_pipeline.hpp"
+#include "pipeline/recording_source.hpp"
 #include "sim_sequence.hpp"
 
 namespace vigs::pipeline {
@@ -112,6 +114,26 @@ bool wait_signal_taken(pid_t pid, int sig, std::chrono::milliseconds timeout) {
     if (std::chrono::steady_clock::now() > give_up) return false;
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
+}
+
+// The progress line's ETA needs the recording's frame count: the summary's count of the colour
+// channel, and without a summary (a recording cut short) the colour messages counted.
+TEST_F(LivePipeline, FrameCountFromTheSummaryOrCountedWithoutOne) {
+  std::uint64_t frames = 0;
+  io::for_each_recorded_frame(recording(), [&](const io::RecordedFrame&) { ++frames; });
+  ASSERT_GT(frames, 40u);
+  EXPECT_EQ(RecordingSource::frame_count(recording()), frames);
+  // The first half of the file: no summary, fewer colour messages, none of them invented.
+  const std::string cut = dir_->file("office_cut.mcap");
+  std::filesystem::copy_file(recording(), cut, std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::resize_file(cut, std::filesystem::file_size(recording()) / 2);
+  const std::uint64_t counted = RecordingSource::frame_count(cut);
+  EXPECT_GT(counted, 0u);
+  EXPECT_LT(counted, frames);
+  std::uint64_t intact = 0;
+  io::for_each_recorded_frame(cut, [&](const io::RecordedFrame&) { ++intact; });
+  EXPECT_GE(counted, intact);  // every colour message, even one whose depth was cut off
+  std::filesystem::remove(cut);
 }
 
 TEST_F(LivePipeline, LockstepEqualsReplayAndRepeats) {
