@@ -69,4 +69,10 @@ TriggerMatchCounters TriggerMatcher::counters() const noexcept {
           .edges_without_frame = edges_without_frame_.get()};
 }
 
+io::Json to_json_value(const TriggerMatchCounters& c) {
+  return {{"matched", c.matched},
+          {"frames_without_edge", c.frames_without_edge},
+          {"edges_without_frame", c.edges_without_frame}};
+}
+
 }  // namespace vigs::drivers

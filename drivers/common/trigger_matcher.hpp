@@ -24,6 +24,7 @@
 #include <optional>
 
 #include "drivers/common/trigger_edge.hpp"
+#include "io/json_text.hpp"
 #include "rt/counters.hpp"
 #include "rt/spsc_ring.hpp"
 
@@ -39,6 +40,9 @@ struct TriggerMatchCounters {
   std::uint64_t frames_without_edge = 0;  // frames that kept their own stamp
   std::uint64_t edges_without_frame = 0;  // edges no frame claimed
 };
+
+/// {"matched": N, "frames_without_edge": N, "edges_without_frame": N} (stats.json).
+[[nodiscard]] io::Json to_json_value(const TriggerMatchCounters& c);
 
 /// From the robot config: camera.trigger_tolerance_ms, camera.trigger_offset_ms.
 [[nodiscard]] inline TriggerMatchSettings trigger_match_settings(double tolerance_ms,

@@ -154,4 +154,15 @@ GpioTriggerCounters GpioTrigger::counters() const noexcept {
   return c;
 }
 
+io::Json to_json_value(const GpioTriggerCounters& c) {
+  return {{"rising", c.rising},
+          {"falling", c.falling},
+          {"pushed", c.pushed},
+          {"dropped_ring_full", c.dropped_ring_full},
+          {"tap_dropped", c.tap_dropped},
+          {"read_errors", c.read_errors},
+          {"non_monotonic", c.non_monotonic},
+          {"source_closed", c.source_closed}};
+}
+
 }  // namespace vigs::drivers

@@ -25,6 +25,7 @@
 #include <string>
 
 #include "drivers/common/trigger_edge.hpp"
+#include "io/json_text.hpp"
 #include "rt/counters.hpp"
 #include "rt/rt_thread.hpp"
 #include "rt/spsc_ring.hpp"
@@ -67,6 +68,9 @@ struct GpioTriggerCounters {
   std::uint64_t non_monotonic = 0;  // an edge stamped before the previous one (dropped)
   bool source_closed = false;       // the event fd reached end of file
 };
+
+/// {"rising": N, ..., "source_closed": bool}: every counter by its name (stats.json).
+[[nodiscard]] io::Json to_json_value(const GpioTriggerCounters& c);
 
 class GpioTrigger {
  public:

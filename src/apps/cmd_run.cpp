@@ -161,23 +161,8 @@ io::Json live_stats(const pipeline::LiveResult& r, const std::string& recording,
   }
   if (r.camera_driver) s["camera_driver"] = drivers::to_json_value(*r.camera_driver);
   if (r.imu_driver) s["imu_driver"] = r.imu_driver->to_json_value();
-  if (r.trigger) {
-    const drivers::GpioTriggerCounters& t = *r.trigger;
-    s["trigger"] = {{"rising", t.rising},
-                    {"falling", t.falling},
-                    {"pushed", t.pushed},
-                    {"dropped_ring_full", t.dropped_ring_full},
-                    {"tap_dropped", t.tap_dropped},
-                    {"read_errors", t.read_errors},
-                    {"non_monotonic", t.non_monotonic},
-                    {"source_closed", t.source_closed}};
-  }
-  if (r.trigger_match) {
-    const drivers::TriggerMatchCounters& m = *r.trigger_match;
-    s["trigger_match"] = {{"matched", m.matched},
-                          {"frames_without_edge", m.frames_without_edge},
-                          {"edges_without_frame", m.edges_without_frame}};
-  }
+  if (r.trigger) s["trigger"] = drivers::to_json_value(*r.trigger);
+  if (r.trigger_match) s["trigger_match"] = drivers::to_json_value(*r.trigger_match);
   if (mode.find("drivers") != std::string::npos) {
     s["host_minus_recording_ns"] = r.host_minus_recording_ns;
     s["feeder"] = io::Json{{"imu_samples_written", r.feeder.imu_samples_written},

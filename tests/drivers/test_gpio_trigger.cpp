@@ -18,6 +18,7 @@
 #include "drivers/gpio_trigger/gpio_trigger.hpp"
 #include "drivers/v4l2/v4l2_rgbd_driver.hpp"
 #include "fake_v4l2_device.hpp"
+#include "io/json_text.hpp"
 #include "tests/common/test_pipe.hpp"
 
 namespace vigs::drivers {
@@ -159,6 +160,24 @@ TEST(TriggerMatcher, AFullWindowDropsItsOldestEdgeCounted) {
   // A frame at the 40th edge: the 8 oldest fell out of the 32-edge window, 31 more are too old.
   EXPECT_EQ(m.match(400 * kMs), std::optional<std::int64_t>(400 * kMs));
   EXPECT_EQ(m.counters().edges_without_frame, 39u);
+}
+
+// stats.json's "trigger" and "trigger_match" objects: every counter under its own name.
+TEST(GpioTrigger, CountersAsJsonNameEveryCounter) {
+  const GpioTriggerCounters t{.rising = 1,
+                              .falling = 2,
+                              .pushed = 3,
+                              .dropped_ring_full = 4,
+                              .tap_dropped = 5,
+                              .read_errors = 6,
+                              .non_monotonic = 7,
+                              .source_closed = true};
+  EXPECT_EQ(io::json_line(to_json_value(t)),
+            R"({"rising": 1, "falling": 2, "pushed": 3, "dropped_ring_full": 4, "tap_dropped": 5, )"
+            R"("read_errors": 6, "non_monotonic": 7, "source_closed": true})");
+  const TriggerMatchCounters m{.matched = 8, .frames_without_edge = 9, .edges_without_frame = 10};
+  EXPECT_EQ(io::json_line(to_json_value(m)),
+            R"({"matched": 8, "frames_without_edge": 9, "edges_without_frame": 10})");
 }
 
 TEST(GpioTrigger, V4l2FramesTakeTheirEdgeStampsFromThePipe) {
