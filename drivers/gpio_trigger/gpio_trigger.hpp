@@ -89,6 +89,10 @@ class GpioTrigger {
   void stop();
   [[nodiscard]] bool running() const noexcept { return thread_.has_value(); }
   [[nodiscard]] GpioTriggerCounters counters() const noexcept;
+  /// "chip:line": the edges' source as recordings name it (TimeReference.source).
+  [[nodiscard]] std::string source() const {
+    return settings_.chip + ":" + std::to_string(settings_.line);
+  }
 
  private:
   void launch();

@@ -85,8 +85,7 @@ int run_record(const RecordOptions& o) {
     matcher = std::make_unique<drivers::TriggerMatcher>(
         edge_ring, drivers::trigger_match_settings(cfg.camera.trigger_tolerance_ms,
                                                    cfg.camera.trigger_offset_ms));
-    recorder.add_edges(edge_tap,
-                       cfg.camera.trigger_chip + ":" + std::to_string(cfg.camera.trigger_line));
+    recorder.add_edges(edge_tap, trigger->source());
   }
   if (camera_openni2) {
     openni2 = std::make_unique<drivers::Openni2Driver>(

@@ -26,7 +26,6 @@ std::unique_ptr<LiveCamera> LiveCamera::robot(const config::RobotConfig& cfg, rt
     cam->matcher_ = std::make_unique<drivers::TriggerMatcher>(
         *cam->edges_, drivers::trigger_match_settings(c.trigger_tolerance_ms, c.trigger_offset_ms));
     cam->trigger_event_fd_ = seams.trigger_event_fd;
-    cam->trigger_source_ = c.trigger_chip + ":" + std::to_string(c.trigger_line);
   }
   if (c.driver == "openni2") {
     cam->openni2_ = std::make_unique<drivers::Openni2Driver>(drivers::openni2_settings(c, cfg.rt),

@@ -75,7 +75,7 @@ class LiveCamera {
   /// With the trigger: its edges, and how frames matched them.
   [[nodiscard]] bool triggered() const noexcept { return trigger_ != nullptr; }
   /// "chip:line" of the trigger ("" without one), as `vigs record` names the edges' source.
-  [[nodiscard]] const std::string& trigger_source() const noexcept { return trigger_source_; }
+  [[nodiscard]] std::string trigger_source() const { return trigger_ ? trigger_->source() : ""; }
   [[nodiscard]] std::optional<drivers::GpioTriggerCounters> trigger_counters() const noexcept;
   [[nodiscard]] std::optional<drivers::TriggerMatchCounters> trigger_match_counters()
       const noexcept;
@@ -90,7 +90,6 @@ class LiveCamera {
   std::unique_ptr<drivers::GpioTrigger> trigger_;
   std::unique_ptr<drivers::TriggerMatcher> matcher_;
   int trigger_event_fd_ = -1;
-  std::string trigger_source_;
 };
 
 }  // namespace vigs::pipeline

@@ -2,16 +2,27 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace vigs::pipeline {
+namespace {
+
+/// The first and last frame of the steady window: `trim` of the n frames cut at each end (the
+/// last after the first). Nothing with fewer than 3 frames or trim outside [0, 0.5).
+std::optional<std::pair<std::size_t, std::size_t>> steady_window(std::size_t n, double trim) {
+  if (n < 3 || !(trim >= 0.0 && trim < 0.5)) return std::nullopt;
+  const auto a = static_cast<std::size_t>(std::floor(trim * static_cast<double>(n - 1)));
+  return std::pair{a, std::max(a + 1, n - 1 - a)};
+}
+
+}  // namespace
 
 std::optional<double> steady_real_time_factor(const std::vector<std::int64_t>& stream_ns,
                                               const std::vector<std::int64_t>& done_ns,
                                               double trim) {
-  const std::size_t n = stream_ns.size();
-  if (n < 3 || done_ns.size() != n || !(trim >= 0.0 && trim < 0.5)) return std::nullopt;
-  const auto a = static_cast<std::size_t>(std::floor(trim * static_cast<double>(n - 1)));
-  const std::size_t b = std::max(a + 1, n - 1 - a);
+  const auto window = steady_window(stream_ns.size(), trim);
+  if (!window || done_ns.size() != stream_ns.size()) return std::nullopt;
+  const auto [a, b] = *window;
   const std::int64_t wall = done_ns[b] - done_ns[a];
   if (wall <= 0) return std::nullopt;
   return static_cast<double>(stream_ns[b] - stream_ns[a]) / static_cast<double>(wall);
@@ -20,10 +31,9 @@ std::optional<double> steady_real_time_factor(const std::vector<std::int64_t>& s
 std::optional<std::uint64_t> events_in_steady_window(const std::vector<std::int64_t>& done_ns,
                                                      std::span<const std::int64_t> event_ns,
                                                      double trim) {
-  const std::size_t n = done_ns.size();
-  if (n < 3 || !(trim >= 0.0 && trim < 0.5)) return std::nullopt;
-  const auto a = static_cast<std::size_t>(std::floor(trim * static_cast<double>(n - 1)));
-  const std::size_t b = std::max(a + 1, n - 1 - a);
+  const auto window = steady_window(done_ns.size(), trim);
+  if (!window) return std::nullopt;
+  const auto [a, b] = *window;
   return static_cast<std::uint64_t>(std::count_if(
       event_ns.begin(), event_ns.end(), [&](auto t) { return t > done_ns[a] && t <= done_ns[b]; }));
 }
