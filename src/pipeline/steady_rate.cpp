@@ -33,9 +33,9 @@ std::optional<std::uint64_t> events_in_steady_window(const std::vector<std::int6
                                                      double trim) {
   const auto window = steady_window(done_ns.size(), trim);
   if (!window) return std::nullopt;
-  const auto [a, b] = *window;
+  const std::int64_t from_ns = done_ns[window->first], to_ns = done_ns[window->second];
   return static_cast<std::uint64_t>(std::count_if(
-      event_ns.begin(), event_ns.end(), [&](auto t) { return t > done_ns[a] && t <= done_ns[b]; }));
+      event_ns.begin(), event_ns.end(), [&](auto t) { return t > from_ns && t <= to_ns; }));
 }
 
 }  // namespace vigs::pipeline
