@@ -23,7 +23,8 @@ namespace vigs::apps {
 namespace {
 
 struct ReplayArgs {
-  std::string recording, out, config_file, guess, fusion, initial_pose = "gravity";
+  std::string recording, out, config_file, guess, fusion, initial_pose = "gravity",
+                                                          map_poses = "estimate";
   std::int64_t frames = 0, skip_frames = 0;
   int map_iterations = 0;
   double map_budget_ms = 0.0;
@@ -70,6 +71,11 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                   "build map.ply with this mapper time budget per frame, ms (mapping.budget_ms; "
                   "replaces --map-iterations; iteration count follows the wall clock)")
       ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_option("--map-poses", a.map_poses,
+                  "with a map: keyframes go into it at the tracker's estimate (the default) or at "
+                  "the recording's ground-truth poses (the mapper alone, without tracking error; "
+                  "`vigs eval run` then renders at the ground truth)")
+      ->check(CLI::IsMember({"estimate", "ground_truth"}));
   cmd->add_flag("--allow-truncated", a.allow_truncated,
                 "replay the intact part of a damaged (truncated, corrupt) recording instead of "
                 "refusing it; stderr and stats.json input_damage say what was used");
@@ -98,6 +104,8 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
                              : pipeline::InitialPoseSource::gravity;
       opt.map_iterations_per_frame = a.map_iterations;
       opt.map_budget_ms = a.map_budget_ms;
+      opt.map_poses = a.map_poses == "ground_truth" ? pipeline::MapPoseSource::ground_truth
+                                                    : pipeline::MapPoseSource::estimate;
       opt.allow_damaged = a.allow_truncated;
       opt.as_run = a.as_run;
       const auto progress = [](const pipeline::TrackedFrame& f) {

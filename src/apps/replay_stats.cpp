@@ -72,6 +72,8 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   }
   if (r.map) {
     s["gaussians"] = r.map->size();
+    // Where the keyframes went into the map: `vigs eval run` renders at the same poses.
+    s["map_poses"] = std::string(pipeline::to_string(r.map_poses));
     s["map_iterations"] = r.map_iterations;
     s["map_coarse_iterations"] = r.map_coarse_iterations;
     s["map_ms_per_frame"] = n > 0 ? num(1e3 * r.map_s / frames) : io::Json(nullptr);

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 
 #include "io/image_io.hpp"
@@ -16,9 +15,21 @@
 namespace vigs::eval {
 namespace {
 
+/// Mean of the measured (non-NaN) values, NaN when there are none.
 double mean_of(const std::vector<double>& v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+  double sum = 0;
+  std::size_t n = 0;
+  for (const double x : v) {
+    if (std::isnan(x)) continue;
+    sum += x;
+    ++n;
+  }
+  return n == 0 ? std::numeric_limits<double>::quiet_NaN() : sum / static_cast<double>(n);
+}
+
+std::size_t measured(const std::vector<double>& v) {
+  return static_cast<std::size_t>(
+      std::count_if(v.begin(), v.end(), [](double x) { return !std::isnan(x); }));
 }
 
 /// Index of the pose nearest to t within max_dt, or -1.
@@ -66,18 +77,6 @@ double masked_psnr(const ImageU8& a, const ImageU8& b, const std::vector<double>
   return 10.0 * std::log10(255.0 * 255.0 * static_cast<double>(n) / se);
 }
 
-/// Mean of the non-NaN values, NaN when there are none.
-double mean_of_measured(const std::vector<double>& v) {
-  double sum = 0;
-  std::size_t n = 0;
-  for (const double x : v) {
-    if (std::isnan(x)) continue;
-    sum += x;
-    ++n;
-  }
-  return n == 0 ? std::numeric_limits<double>::quiet_NaN() : sum / static_cast<double>(n);
-}
-
 struct StaticPsnr {
   double whole_db = std::numeric_limits<double>::quiet_NaN();
   double valid_depth_db = std::numeric_limits<double>::quiet_NaN();
@@ -101,15 +100,17 @@ StaticPsnr static_psnr(const ImageU8& recorded, const ImageU8& rendered, const s
 
 }  // namespace
 
+std::size_t QualitySet::frames_with_depth() const {
+  return measured(psnr_valid_depth_db);
+}
 std::size_t QualitySet::frames_with_dynamic_mask() const {
-  return static_cast<std::size_t>(std::count_if(psnr_static_db.begin(), psnr_static_db.end(),
-                                                [](double v) { return !std::isnan(v); }));
+  return measured(psnr_static_db);
 }
 double QualitySet::mean_psnr_static_db() const {
-  return mean_of_measured(psnr_static_db);
+  return mean_of(psnr_static_db);
 }
 double QualitySet::mean_psnr_static_valid_depth_db() const {
-  return mean_of_measured(psnr_static_valid_depth_db);
+  return mean_of(psnr_static_valid_depth_db);
 }
 double QualitySet::mean_psnr_db() const {
   return mean_of(psnr_db);
@@ -209,13 +210,10 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
       set->t_s.push_back(t_s);
       set->psnr_db.push_back(iq.psnr_db);
       set->ssim.push_back(iq.ssim);
-      set->psnr_valid_depth_by_frame.push_back(psnr_v);
+      set->psnr_valid_depth_db.push_back(psnr_v);
+      set->ssim_valid_depth.push_back(ssim_v);
       set->psnr_static_db.push_back(psnr_s.whole_db);
       set->psnr_static_valid_depth_db.push_back(psnr_s.valid_depth_db);
-      if (!std::isnan(psnr_v)) {
-        set->psnr_valid_depth_db.push_back(psnr_v);
-        set->ssim_valid_depth.push_back(ssim_v);
-      }
     }
     if (in_nth && next_target < targets.size() && t_s >= targets[next_target]) {
       while (next_target < targets.size() && t_s >= targets[next_target]) ++next_target;
@@ -253,10 +251,16 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
 }
 
 std::string render_quality_markdown(const RenderQuality& q, const RenderQualityOptions& opt,
-                                    bool have_keyframes, const std::string& png_relative) {
+                                    bool have_keyframes, const std::string& png_relative,
+                                    bool at_ground_truth) {
   std::string md = "## Rendering quality (PSNR, SSIM)\n\n";
-  md += "The map is rendered at the estimated camera pose of recorded frames (" +
-        std::to_string(q.image_width) + "x" + std::to_string(q.image_height) +
+  md += std::string("The map is rendered at the ") +
+        (at_ground_truth ? "ground-truth camera pose (the run built the map at the ground "
+                           "truth's poses, stats.json map_poses: the mapper alone, without "
+                           "tracking error)"
+                         : "estimated camera pose") +
+        " of recorded frames (" + std::to_string(q.image_width) + "x" +
+        std::to_string(q.image_height) +
         " px) and compared with the recorded colour image: PSNR with peak 255 over all pixels "
         "and channels, SSIM with the Gaussian 11x11 window (sigma 1.5) over valid windows, mean "
         "over channels. Means are per-frame means. " +
@@ -271,7 +275,7 @@ std::string render_quality_markdown(const RenderQuality& q, const RenderQualityO
   const auto db = [](double v) { return std::isfinite(v) ? fmt("%.2f", v) : std::string("-"); };
   const auto row = [&](const std::string& name, const QualitySet& s) {
     if (s.frames() == 0) return "| " + name + " | 0 | - | - | - | 0 | - | - | 0 | - | - |\n";
-    const std::size_t nd = s.psnr_valid_depth_db.size();
+    const std::size_t nd = s.frames_with_depth();
     return "| " + name + " | " + std::to_string(s.frames()) + " | " +
            fmt("%.2f", s.mean_psnr_db()) + " | " + fmt("%.2f", s.min_psnr_db()) + " | " +
            fmt("%.4f", s.mean_ssim()) + " | " + std::to_string(nd) + " | " +

@@ -38,15 +38,17 @@ struct QualitySet {
   std::vector<double> t_s;  ///< stamps of the frames measured
   std::vector<double> psnr_db;
   std::vector<double> ssim;
-  std::vector<double> psnr_valid_depth_db;  ///< frames with a depth image only
+  // Every vector below holds one value per t_s; NaN marks a frame where the figure was not
+  // measured, and the means skip it.
+  /// Over the pixels with valid depth: NaN for a frame without a depth image (or none valid).
+  std::vector<double> psnr_valid_depth_db;
   std::vector<double> ssim_valid_depth;
-  /// psnr_valid_depth_db frame by frame, one per t_s: NaN for a frame without a depth image
-  std::vector<double> psnr_valid_depth_by_frame;
-  /// One per t_s, NaN for a frame without a person mask: PSNR over the pixels no person covers
-  /// (the static scene), and over those that also have valid depth (NaN without depth too).
+  /// Over the pixels no person covers (the static scene), and over those that also have valid
+  /// depth: NaN for a frame without a person mask (and without depth, the second).
   std::vector<double> psnr_static_db;
   std::vector<double> psnr_static_valid_depth_db;
   [[nodiscard]] std::size_t frames() const { return t_s.size(); }
+  [[nodiscard]] std::size_t frames_with_depth() const;
   [[nodiscard]] std::size_t frames_with_dynamic_mask() const;
   /// Means over the frames with a value (NaN when none has).
   [[nodiscard]] double mean_psnr_static_db() const;
@@ -78,8 +80,10 @@ RenderQuality measure_render_quality(const mapping::GaussianMap& map, const Traj
                                      const std::vector<double>* keyframe_t_s,
                                      const std::string& mcap_path, const RenderQualityOptions& opt);
 
-/// Markdown section (## Rendering quality ...) of the report.
+/// Markdown section (## Rendering quality ...) of the report; `at_ground_truth`: the frames
+/// were rendered at the ground truth's camera poses (a map built at them), not the estimate's.
 std::string render_quality_markdown(const RenderQuality& q, const RenderQualityOptions& opt,
-                                    bool have_keyframes, const std::string& png_relative);
+                                    bool have_keyframes, const std::string& png_relative,
+                                    bool at_ground_truth = false);
 
 }  // namespace vigs::eval

@@ -124,8 +124,11 @@ std::string opt_num(const std::optional<double>& v, const char* f) {
 
 /// Reads the optional RESULTS_DIR files, renders the map when it can, and returns the
 /// markdown of the rendering and statistics sections plus the "not measured" items.
-void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, ReportResult& r,
-                         std::string& md_sections, std::vector<std::string>& not_measured) {
+/// `gt`: the ground truth as write_report holds it (camera poses when the estimate is of the
+/// camera, body poses otherwise).
+void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, const Trajectory& gt,
+                         ReportResult& r, std::string& md_sections,
+                         std::vector<std::string>& not_measured) {
   const fs::path dir(opt.results_dir);
   const bool have_map = fs::exists(dir / pipeline::kMapFile);
   const bool have_kf = fs::exists(dir / pipeline::kKeyframesFile);
@@ -145,8 +148,11 @@ void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, Report
   }
   const bool mcap = is_mcap_path(opt.gt_path);
   if (opt.render && have_map && mcap) {
-    Trajectory cam = est;
-    if (!opt.estimate_is_camera)
+    // The map is rendered at the poses it was built at: the estimate's, or the ground truth's
+    // for a map built at them (the ground truth's world frame, not the estimate's).
+    r.rendered_at_ground_truth = r.run_stats.map_poses == "ground_truth";
+    Trajectory cam = r.rendered_at_ground_truth ? gt : est;
+    if (!opt.estimate_is_camera)  // then both are of the body
       for (auto& p : cam.poses) p.T_w_x = p.T_w_x * opt.T_b_c;
     std::stable_sort(cam.poses.begin(), cam.poses.end(),
                      [](const TimedPose& a, const TimedPose& b) { return a.t_s < b.t_s; });
@@ -156,7 +162,8 @@ void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, Report
     r.quality =
         measure_render_quality(map, cam, have_kf ? &r.keyframe_t_s : nullptr, opt.gt_path, q);
     r.quality_measured = true;
-    md_sections += render_quality_markdown(r.quality, q, have_kf, "plots/rendered_vs_recorded.png");
+    md_sections += render_quality_markdown(r.quality, q, have_kf, "plots/rendered_vs_recorded.png",
+                                           r.rendered_at_ground_truth);
     if (!have_kf)
       not_measured.push_back(
           "**PSNR and SSIM on held-out frames**: no keyframes.txt in the results, so frames "
@@ -243,7 +250,7 @@ ReportResult write_report(const ReportOptions& opt) {
   std::vector<std::string> not_measured;
   // The map follows the loop closer as trajectory.tum does (results_dir.hpp): views are
   // rendered at the estimate's poses.
-  measure_map_and_run(opt, est, r, map_sections, not_measured);
+  measure_map_and_run(opt, est, gt, r, map_sections, not_measured);
   if (r.quality_measured && r.quality.damage.damaged() && !r.input_damage.damaged()) {
     r.input_damage = r.quality.damage;
     r.input_damage_used = std::to_string(r.quality.recorded_frames) + " recorded frames";
@@ -327,7 +334,7 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
     s["frames"] = q.frames();
     s["psnr_db"] = io::finite_or_null(q.mean_psnr_db());
     s["ssim"] = io::finite_or_null(q.mean_ssim());
-    s["frames_with_depth"] = q.psnr_valid_depth_db.size();
+    s["frames_with_depth"] = q.frames_with_depth();
     s["psnr_valid_depth_db"] = io::finite_or_null(q.mean_psnr_valid_depth_db());
     s["ssim_valid_depth"] = io::finite_or_null(q.mean_ssim_valid_depth());
     // Over the pixels no person covers (the simulator's ground-truth mask; null without it).
@@ -348,9 +355,8 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
       t.push_back(io::fixed(q.t_s[i], 3));
       psnr.push_back(value(q.psnr_db[i], 3));
       ssim.push_back(value(q.ssim[i], 4));
-      psnr_valid.push_back(i < q.psnr_valid_depth_by_frame.size()
-                               ? value(q.psnr_valid_depth_by_frame[i], 3)
-                               : io::Json(nullptr));
+      psnr_valid.push_back(i < q.psnr_valid_depth_db.size() ? value(q.psnr_valid_depth_db[i], 3)
+                                                            : io::Json(nullptr));
       psnr_static.push_back(i < q.psnr_static_db.size() ? value(q.psnr_static_db[i], 3)
                                                         : io::Json(nullptr));
       psnr_static_valid.push_back(i < q.psnr_static_valid_depth_db.size()
@@ -371,6 +377,7 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
     q["every_nth"] = set_json(r.quality.every_nth);
     q["held_out"] = r.have_keyframes ? set_json(r.quality.held_out) : io::Json(nullptr);
     q["rendered_views"] = r.quality.side_by_side_png;
+    q["render_poses"] = r.rendered_at_ground_truth ? "ground_truth" : "estimate";
     j["quality"] = std::move(q);
   } else {
     j["quality"] = nullptr;

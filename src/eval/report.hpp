@@ -45,6 +45,9 @@ struct ReportResult {
   RpeResult rpe_frame, rpe_metre;
   bool quality_measured = false;
   RenderQuality quality;
+  /// The map was rendered at the ground truth's camera poses, not the estimate's: the run
+  /// built it at them (stats.json map_poses "ground_truth", `vigs replay --map-poses`).
+  bool rendered_at_ground_truth = false;
   bool have_keyframes = false;       ///< keyframes.txt was present
   std::vector<double> keyframe_t_s;  ///< from keyframes.txt
   long gaussians = -1;               ///< from map.ply, -1 when not read

@@ -70,6 +70,10 @@ const char* to_string(InitialPoseSource source) {
   return "unknown";
 }
 
+const char* to_string(MapPoseSource source) {
+  return source == MapPoseSource::ground_truth ? "ground_truth" : "estimate";
+}
+
 geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_first_ns,
                                    const config::RobotConfig& cfg, InitialPoseSource& used,
                                    InitialPoseSource prefer) {
@@ -129,6 +133,15 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   std::optional<tracking::LoopCloser> loops;
   if (cfg.tracking.loop.enabled) loops.emplace(cfg.tracking.loop, cfg.tracking.gicp);
   MapLoopCorrection map_correction;  // the map follows the loop closer (map_loop_correction.hpp)
+  const bool map_at_truth = options.map_poses == MapPoseSource::ground_truth &&
+                            (options.map_budget_ms > 0.0 || options.map_iterations_per_frame > 0);
+  if (map_at_truth && motion.body_poses.empty())
+    throw RecordingError(path + ": no geometry_msgs/PoseStamped on " + options.pose_topic +
+                         " to build the map at the ground-truth poses");
+  const geometry::Pose T_b_c =
+      inertial::InertialFrontendOptions::from(cfg.imu, cfg.extrinsics, cfg.inertial).T_b_c;
+  // The map follows the loop closer only when it was built at the estimate.
+  const bool map_follows_loops = cfg.mapping.follow_loop_closures && !map_at_truth;
   ImuFeeder feeder(motion.imu);
   std::int64_t last_t_ns = 0;
   // as_run: the frames the recording's run tracked and the newest IMU sample each one used.
@@ -207,7 +220,16 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     std::optional<geometry::Pose> T_w_c_map;  // with loops: the keyframe's solved pose
     if (loops && f.keyframe) {
       closed = loops->add_keyframe(odometry->tracker().last_keyframe(), f.reinitialized);
-      if (mapper && cfg.mapping.follow_loop_closures) T_w_c_map = map_correction.place(*loops);
+      if (mapper && map_follows_loops) T_w_c_map = map_correction.place(*loops);
+    }
+    if (mapper && map_at_truth && f.keyframe) {
+      const std::int64_t t_kf_ns = odometry->tracker().last_keyframe().t_ns;
+      const auto T_w_b = interpolate_pose(motion.body_poses, t_kf_ns);
+      if (!T_w_b)
+        throw RecordingError(path + ": no ground-truth pose on " + options.pose_topic +
+                             " within 50 ms of the keyframe at t_ns " + std::to_string(t_kf_ns) +
+                             " (map poses: ground_truth)");
+      T_w_c_map = *T_w_b * T_b_c;
     }
     if (mapper) {
       const auto t_map = std::chrono::steady_clock::now();
@@ -218,8 +240,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
         ++result.keyframes_without_view;
       }
       mapper->step();  // inserts the keyframe first: a closure below moves it too
-      if (closed && cfg.mapping.follow_loop_closures)
-        map_correction.apply(*loops, mapper->mapper());
+      if (closed && map_follows_loops) map_correction.apply(*loops, mapper->mapper());
       result.map_s += seconds_since(t_map);
     }
     result.frames.push_back(f);
@@ -255,7 +276,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   result.counters = odometry->counters();
   if (loops) {
     apply_loop_closure(*loops, result);
-    if (mapper && cfg.mapping.follow_loop_closures)
+    if (mapper && map_follows_loops)
       map_correction.apply(*loops, mapper->mapper());  // the graph's last solution
   }
   result.imu_samples_fed = feeder.fed();
@@ -264,6 +285,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
     result.map_iterations = static_cast<long>(mapper->mapper().iterations());
     result.map_coarse_iterations = static_cast<long>(mapper->mapper().coarse_iterations());
     result.map_budget_ms = options.map_budget_ms;
+    result.map_poses = options.map_poses;
     result.map_budget_overruns = mapper->mapper().budget_overruns();
     result.map_memory = mapper->mapper().memory();
     result.map_bytes_per_gaussian = result.map_memory.bytes_per_gaussian();

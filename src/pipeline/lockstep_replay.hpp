@@ -61,6 +61,14 @@ geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_
                                    const config::RobotConfig& cfg, InitialPoseSource& used,
                                    InitialPoseSource prefer = InitialPoseSource::ground_truth);
 
+/// Where the lockstep mapper places each keyframe: at the tracker's estimate (loop-corrected
+/// with tracking.loop_closure and mapping.follow_loop_closures), or at the recording's
+/// ground-truth camera pose at the keyframe's stamp. The second measures the mapper alone,
+/// without tracking error (the map is then in the ground truth's world frame, and `vigs eval
+/// run` renders it at the ground-truth poses: stats.json map_poses).
+enum class MapPoseSource { estimate, ground_truth };
+const char* to_string(MapPoseSource source);
+
 struct ReplayOptions {
   std::optional<tracking::InitialGuessMode> guess;  ///< overrides tracking.initial_guess
   std::optional<FusionMode> fusion;                 ///< overrides tracking.fusion
@@ -74,6 +82,9 @@ struct ReplayOptions {
   /// > 0: build the map with this mapper time budget per frame instead (mapping.budget_ms;
   /// overrides map_iterations_per_frame; the iteration count then follows the wall clock).
   double map_budget_ms = 0.0;
+  /// Keyframe poses the map is built at (with mapping on). ground_truth needs a ground-truth
+  /// pose within 50 ms of every keyframe (RecordingError naming the stamp otherwise).
+  MapPoseSource map_poses = MapPoseSource::estimate;
   std::string imu_topic{io::topics::kImu.name};
   std::string pose_topic{io::topics::kBodyPose.name};
   /// Replay the intact part of a damaged recording (ReplayResult::damage says what was found)
@@ -112,15 +123,16 @@ struct ReplayResult {
   /// The map after the last frame's mapper tick (null without mapping).
   std::shared_ptr<const mapping::GaussianMap> map;
   long map_iterations = 0;
-  long map_coarse_iterations = 0;             ///< of map_iterations: at half resolution
-  double map_s = 0.0;                         ///< inside the mapper
-  double map_budget_ms = 0.0;                 ///< the mapper's budget per frame (0 = none)
-  std::uint64_t map_budget_overruns = 0;      ///< mapper ticks past their (carried) budget
-  double map_bytes_per_gaussian = 0.0;        ///< map_memory.bytes_per_gaussian()
-  mapping::MapperMemory map_memory;           ///< the mapper's memory by owner at the end
-  std::uint64_t map_gated_points = 0;         ///< keyframe points the map already rendered
-  std::uint64_t map_seen_through_pruned = 0;  ///< Gaussians later keyframes saw through
-  std::uint64_t map_refined_closer = 0;       ///< Gaussians replaced when seen from closer
+  long map_coarse_iterations = 0;                     ///< of map_iterations: at half resolution
+  double map_s = 0.0;                                 ///< inside the mapper
+  double map_budget_ms = 0.0;                         ///< the mapper's budget per frame (0 = none)
+  MapPoseSource map_poses = MapPoseSource::estimate;  ///< where keyframes went into the map
+  std::uint64_t map_budget_overruns = 0;              ///< mapper ticks past their (carried) budget
+  double map_bytes_per_gaussian = 0.0;                ///< map_memory.bytes_per_gaussian()
+  mapping::MapperMemory map_memory;                   ///< the mapper's memory by owner at the end
+  std::uint64_t map_gated_points = 0;                 ///< keyframe points the map already rendered
+  std::uint64_t map_seen_through_pruned = 0;          ///< Gaussians later keyframes saw through
+  std::uint64_t map_refined_closer = 0;               ///< Gaussians replaced when seen from closer
   std::uint64_t map_nonfinite_gradients = 0;  ///< Gaussian gradients not applied: not finite
   std::uint64_t map_moved_by_loops = 0;  ///< Gaussians moved with their keyframe by loop closures
   /// tracking.loop_closure: `frames` hold the loop-corrected poses, `frames_odometry` the

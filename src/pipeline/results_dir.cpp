@@ -91,6 +91,11 @@ RunStats parse_run_stats(const std::string& text, const std::string& name) {
     if (v < 0) throw ResultsFileError(name + ": key \"" + key + "\" must not be negative");
     *slot = v;
   }
+  if (const auto it = doc.find("map_poses"); it != doc.end() && !it->is_null()) {
+    if (!it->is_string() || (*it != "estimate" && *it != "ground_truth"))
+      throw ResultsFileError(name + ": key \"map_poses\" must be \"estimate\" or \"ground_truth\"");
+    st.map_poses = it->get<std::string>();
+  }
   return st;
 }
 

@@ -46,11 +46,14 @@ struct RunStats {
   std::optional<double> fps;
   std::optional<double> peak_rss_bytes;
   std::optional<double> gaussians;
+  /// Where the run put its keyframes into the map (`vigs replay --map-poses`): "estimate" or
+  /// "ground_truth"; absent (older results, live runs): the estimate.
+  std::optional<std::string> map_poses;
 };
 
 /// Parses stats.json text; `name` is used in messages. Throws ResultsFileError naming the file
 /// and byte offset on malformed JSON, or the key when a known key is not a number (null is
-/// accepted as "not measured").
+/// accepted as "not measured") or map_poses is neither "estimate" nor "ground_truth".
 RunStats parse_run_stats(const std::string& text, const std::string& name);
 RunStats read_run_stats(const std::string& path);
 

@@ -207,7 +207,7 @@ TEST_F(RenderReportTest, TruePosesRenderClearlyBetterThanPerturbedOnes) {
   EXPECT_GT(good.quality.every_nth.mean_ssim(), bad.quality.every_nth.mean_ssim() + 0.05);
   EXPECT_GT(good.quality.every_nth.mean_ssim(), 0.5);
   // Over pixels with valid depth (the corridor beyond 10 m excluded) the map matches better.
-  ASSERT_EQ(good.quality.every_nth.psnr_valid_depth_db.size(), 9u);
+  ASSERT_EQ(good.quality.every_nth.frames_with_depth(), 9u);
   std::cout << "valid depth: PSNR " << good.quality.every_nth.mean_psnr_valid_depth_db()
             << " dB, SSIM " << good.quality.every_nth.mean_ssim_valid_depth() << "\n";
   EXPECT_GT(good.quality.every_nth.mean_psnr_valid_depth_db(), g + 1.0);
@@ -391,17 +391,17 @@ TEST_F(RenderReportTest, PsnrOverTheStaticSceneLeavesThePersonMaskOut) {
   ASSERT_EQ(q.psnr_static_valid_depth_db.size(), 3u);
   const double map_db = 20.0 * std::log10(255.0 / 2.0);
   std::cout << "frame with a person: PSNR " << q.psnr_db[0] << " dB, valid depth "
-            << q.psnr_valid_depth_by_frame[0] << " dB; static " << q.psnr_static_db[0]
+            << q.psnr_valid_depth_db[0] << " dB; static " << q.psnr_static_db[0]
             << " dB, static valid depth " << q.psnr_static_valid_depth_db[0] << " dB\n";
   // Frame 0: the person pixels count in the whole frame, not over the static scene.
   EXPECT_LT(q.psnr_db[0], 20.0);
-  EXPECT_LT(q.psnr_valid_depth_by_frame[0], 20.0);
+  EXPECT_LT(q.psnr_valid_depth_db[0], 20.0);
   EXPECT_NEAR(q.psnr_static_db[0], map_db, 1e-6);
   EXPECT_NEAR(q.psnr_static_valid_depth_db[0], map_db, 1e-6);
   // Frame 1: an empty mask, so the static figures are the existing ones.
   EXPECT_NEAR(q.psnr_db[1], map_db, 1e-6);
   EXPECT_NEAR(q.psnr_static_db[1], q.psnr_db[1], 1e-9);
-  EXPECT_DOUBLE_EQ(q.psnr_static_valid_depth_db[1], q.psnr_valid_depth_by_frame[1]);
+  EXPECT_DOUBLE_EQ(q.psnr_static_valid_depth_db[1], q.psnr_valid_depth_db[1]);
   // Frame 2: the same person but no mask: not measured, the existing figures as frame 0's.
   EXPECT_TRUE(std::isnan(q.psnr_static_db[2]));
   EXPECT_TRUE(std::isnan(q.psnr_static_valid_depth_db[2]));
@@ -433,7 +433,7 @@ TEST_F(RenderReportTest, PsnrOverTheStaticSceneLeavesThePersonMaskOut) {
   ASSERT_EQ(p.frames_with_dynamic_mask(), p.frames());
   for (std::size_t i = 0; i < p.frames(); ++i) {
     EXPECT_NEAR(p.psnr_static_db[i], p.psnr_db[i], 1e-9) << i;
-    EXPECT_DOUBLE_EQ(p.psnr_static_valid_depth_db[i], p.psnr_valid_depth_by_frame[i]) << i;
+    EXPECT_DOUBLE_EQ(p.psnr_static_valid_depth_db[i], p.psnr_valid_depth_db[i]) << i;
   }
 }
 

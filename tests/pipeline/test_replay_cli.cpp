@@ -11,7 +11,9 @@
 
 #include "io/json_text.hpp"
 #include "io/tum_trajectory.hpp"
+#include "mapping/ply_io.hpp"
 #include "pipeline/lockstep_replay.hpp"
+#include "pipeline/recorded_motion.hpp"
 #include "pipeline/results_dir.hpp"
 #include "tests/common/cli_process.hpp"
 #include "tests/pipeline/sim_sequence.hpp"
@@ -137,6 +139,50 @@ TEST_F(ReplayCli, MapIterationsWriteAMapThatEvalRenders) {
   // empty or misplaced map scores far lower.
   EXPECT_GT(number_after("psnr_db"), 14.0) << report;
   EXPECT_GT(number_after("psnr_valid_depth_db"), 20.0) << report;
+}
+
+// --map-poses ground_truth: the mapper alone, without tracking error. From the gravity start
+// the estimate's world has the first camera at its origin, the ground truth's has it where
+// the simulator put it, so the two maps lie apart by that offset; each renders well only at
+// the poses it was built at, which `vigs eval run` takes from stats.json map_poses.
+TEST_F(ReplayCli, MapPosesGroundTruthBuildsTheMapInTheGroundTruthsWorld) {
+  const auto replay = [&](const std::string& name, const std::string& map_poses) {
+    const std::string out = dir_.file(name);
+    EXPECT_TRUE(vigs_ok("replay " + path_ + " --out " + out + " --config " +
+                            dir_.file("robot.yaml") + " --frames 30 --map-iterations 2" +
+                            " --initial-pose gravity --map-poses " + map_poses + " --quiet",
+                        name));
+    EXPECT_TRUE(vigs_ok("eval run " + out + " --gt " + path_ + " --no-plots", name + "_eval"));
+    return io::Json::parse(read_text(dir_.file(name + "_eval.out")));
+  };
+  const io::Json at_truth = replay("at_truth", "ground_truth");
+  const io::Json at_estimate = replay("at_estimate", "estimate");
+  for (const auto& [js, poses] :
+       {std::pair{&at_truth, "ground_truth"}, std::pair{&at_estimate, "estimate"}}) {
+    ASSERT_TRUE((*js)["quality"].is_object()) << js->dump();
+    EXPECT_EQ((*js)["quality"]["render_poses"], poses);
+    // each map rendered where it was built: a map of what the camera saw (about 23 dB over
+    // valid depth, MapIterationsWriteAMapThatEvalRenders); rendered 1 m off it is far lower
+    EXPECT_GT((*js)["quality"]["every_nth"]["psnr_valid_depth_db"].get<double>(), 20.0)
+        << js->dump();
+  }
+  EXPECT_NE(read_text(dir_.file("at_truth") + "/" + pipeline::kStatsFile)
+                .find("\"map_poses\": \"ground_truth\""),
+            std::string::npos);
+  // The two maps lie apart by the ground truth's start offset (the recording's first pose).
+  const auto centroid = [&](const std::string& name) {
+    const mapping::GaussianMap map =
+        mapping::read_gaussian_ply(dir_.file(name) + "/" + pipeline::kMapFile);
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < map.size(); ++i)
+      c += Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2]);
+    return Eigen::Vector3d(c / static_cast<double>(std::max<std::size_t>(map.size(), 1)));
+  };
+  const RecordedMotion motion = read_recorded_motion(path_);
+  ASSERT_FALSE(motion.body_poses.empty());
+  const double start_offset_m = motion.body_poses.front().T_w_x.translation().norm();
+  ASSERT_GT(start_offset_m, 1.0) << "the simulator's start is at the origin: no test";
+  EXPECT_GT((centroid("at_truth") - centroid("at_estimate")).norm(), 0.5 * start_offset_m);
 }
 
 TEST_F(ReplayCli, MapBudgetBuildsAMapWithTheBudgetInItsStats) {

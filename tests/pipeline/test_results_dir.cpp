@@ -22,6 +22,9 @@ TEST(RunStats, ReadsKnownNumbersAndIgnoresOtherKeys) {
   EXPECT_FALSE(st.fps);  // null: not measured
   EXPECT_FALSE(st.gaussians);
   EXPECT_FALSE(parse_run_stats("{}", "s").frames);
+  EXPECT_FALSE(parse_run_stats("{}", "s").map_poses);  // older results: the estimate
+  EXPECT_EQ(parse_run_stats(R"({"map_poses": "ground_truth"})", "s").map_poses, "ground_truth");
+  EXPECT_EQ(parse_run_stats(R"({"map_poses": "estimate"})", "s").map_poses, "estimate");
 }
 
 TEST(RunStats, MalformedInputNamesFileAndOffsetOrKey) {
@@ -36,6 +39,10 @@ TEST(RunStats, MalformedInputNamesFileAndOffsetOrKey) {
   EXPECT_EQ(msg(R"({"frames": 4,})"), "run/stats.json: byte 13: expected '\"'");
   EXPECT_EQ(msg(R"({"fps": "fast"})"), "run/stats.json: key \"fps\" must be a number or null");
   EXPECT_EQ(msg(R"({"fps": -1})"), "run/stats.json: key \"fps\" must not be negative");
+  EXPECT_EQ(msg(R"({"map_poses": "truth"})"),
+            "run/stats.json: key \"map_poses\" must be \"estimate\" or \"ground_truth\"");
+  EXPECT_EQ(msg(R"({"map_poses": 1})"),
+            "run/stats.json: key \"map_poses\" must be \"estimate\" or \"ground_truth\"");
   EXPECT_EQ(msg(R"({"a": 1} x)"), "run/stats.json: byte 9: trailing text after the object");
   EXPECT_EQ(msg(R"({"a": [1, 2)"), "run/stats.json: byte 11: unterminated object or array");
   EXPECT_EQ(msg(""), "run/stats.json: byte 0: expected '{'");
