@@ -10,6 +10,7 @@
 #include "core/config/default_config.hpp"
 #include "core/config/diagnostics.hpp"
 #include "core/config/yaml_loader.hpp"
+#include "core/geometry/body_from_camera.hpp"
 #include "eval/ate.hpp"
 #include "eval/mcap_trajectory.hpp"
 #include "eval/report.hpp"
@@ -45,7 +46,7 @@ config::RobotConfig load_robot(const std::string& file) {
 eval::Trajectory load_gt(const EvalArgs& a) {
   eval::Trajectory gt = eval::load_any_trajectory(a.gt, a.topic);
   if (a.gt_to_camera) {
-    const geometry::Pose T_b_c = sim::body_from_camera(load_robot(a.config_file).extrinsics);
+    const geometry::Pose T_b_c = geometry::body_from_camera(load_robot(a.config_file).extrinsics);
     for (auto& p : gt.poses) p.T_w_x = p.T_w_x * T_b_c;
   }
   return gt;
@@ -187,7 +188,7 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       opt.gt_path = a.gt;
       opt.estimate_name = a.est_name;
       opt.estimate_is_camera = a.est_frame == "camera";
-      opt.T_b_c = sim::body_from_camera(cfg.extrinsics);
+      opt.T_b_c = geometry::body_from_camera(cfg.extrinsics);
       opt.ate.align = eval::parse_alignment(a.align);
       opt.ate.max_dt_s = a.max_dt_s;
       opt.plots = !a.no_plots;

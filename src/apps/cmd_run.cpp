@@ -33,6 +33,7 @@
 #include "apps/replay_stats.hpp"
 #include "core/config/default_config.hpp"
 #include "core/config/yaml_loader.hpp"
+#include "core/geometry/body_from_camera.hpp"
 #include "eval/report.hpp"
 #include "io/json_text.hpp"
 #include "io/output_guard.hpp"
@@ -281,7 +282,7 @@ int run_command(const RunArgs& a) {
     ro.results_dir = tmp.string();
     ro.shown_dir = a.out;
     ro.gt_path = o.recording;
-    ro.T_b_c = sim::body_from_camera(cfg.extrinsics);
+    ro.T_b_c = geometry::body_from_camera(cfg.extrinsics);
     ro.render = false;  // PSNR/SSIM renders: `vigs eval run` on the folder
     try {
       report = eval::write_report(ro);

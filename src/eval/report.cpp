@@ -355,13 +355,10 @@ std::string report_json(const ReportResult& r, const ReportOptions& opt) {
       t.push_back(io::fixed(q.t_s[i], 3));
       psnr.push_back(value(q.psnr_db[i], 3));
       ssim.push_back(value(q.ssim[i], 4));
-      psnr_valid.push_back(i < q.psnr_valid_depth_db.size() ? value(q.psnr_valid_depth_db[i], 3)
-                                                            : io::Json(nullptr));
-      psnr_static.push_back(i < q.psnr_static_db.size() ? value(q.psnr_static_db[i], 3)
-                                                        : io::Json(nullptr));
-      psnr_static_valid.push_back(i < q.psnr_static_valid_depth_db.size()
-                                      ? value(q.psnr_static_valid_depth_db[i], 3)
-                                      : io::Json(nullptr));
+      // one value per frame in every vector (QualitySet), NaN -> null
+      psnr_valid.push_back(value(q.psnr_valid_depth_db[i], 3));
+      psnr_static.push_back(value(q.psnr_static_db[i], 3));
+      psnr_static_valid.push_back(value(q.psnr_static_valid_depth_db[i], 3));
     }
     s["per_frame"] = io::Json{{"t_s", std::move(t)},
                               {"psnr_db", std::move(psnr)},

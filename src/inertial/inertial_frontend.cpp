@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/geometry/body_from_camera.hpp"
 #include "inertial/imu_interpolation.hpp"
 
 namespace vigs::inertial {
@@ -16,14 +17,7 @@ InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings&
   }
   o.noise = ImuNoise::from(imu);
   o.g_w_mps2 = gravity_w(imu.gravity_mps2);
-  Eigen::Matrix3d R_b_c;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) R_b_c(r, c) = extrinsics.R_b_c[static_cast<std::size_t>(r * 3 + c)];
-  }
-  o.T_b_c = geometry::Pose::Identity();
-  o.T_b_c.linear() = R_b_c;
-  o.T_b_c.translation() =
-      Eigen::Vector3d(extrinsics.t_b_c_m[0], extrinsics.t_b_c_m[1], extrinsics.t_b_c_m[2]);
+  o.T_b_c = geometry::body_from_camera(extrinsics);
   o.time_offset_ns = static_cast<std::int64_t>(std::llround(imu.time_offset_s * 1e9));
   o.buffer_capacity = inertial.buffer_capacity;
   o.velocity_reset =

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <span>
 
+#include "core/geometry/body_from_camera.hpp"
 #include "inertial/gravity_alignment.hpp"
 #include "io/io_error.hpp"
 #include "io/mcap/mcap_reader.hpp"
@@ -77,8 +78,7 @@ const char* to_string(MapPoseSource source) {
 geometry::Pose initial_camera_pose(const RecordedMotion& motion, std::int64_t t_first_ns,
                                    const config::RobotConfig& cfg, InitialPoseSource& used,
                                    InitialPoseSource prefer) {
-  const geometry::Pose T_b_c =
-      inertial::InertialFrontendOptions::from(cfg.imu, cfg.extrinsics, cfg.inertial).T_b_c;
+  const geometry::Pose T_b_c = geometry::body_from_camera(cfg.extrinsics);
   const auto T_w_b_gt = prefer == InitialPoseSource::ground_truth || motion.imu.empty()
                             ? interpolate_pose(motion.body_poses, t_first_ns)
                             : std::nullopt;
@@ -138,8 +138,7 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
   if (map_at_truth && motion.body_poses.empty())
     throw RecordingError(path + ": no geometry_msgs/PoseStamped on " + options.pose_topic +
                          " to build the map at the ground-truth poses");
-  const geometry::Pose T_b_c =
-      inertial::InertialFrontendOptions::from(cfg.imu, cfg.extrinsics, cfg.inertial).T_b_c;
+  const geometry::Pose T_b_c = geometry::body_from_camera(cfg.extrinsics);
   // The map follows the loop closer only when it was built at the estimate.
   const bool map_follows_loops = cfg.mapping.follow_loop_closures && !map_at_truth;
   ImuFeeder feeder(motion.imu);
@@ -226,8 +225,9 @@ ReplayResult replay_recording(const std::string& path, const config::RobotConfig
       const std::int64_t t_kf_ns = odometry->tracker().last_keyframe().t_ns;
       const auto T_w_b = interpolate_pose(motion.body_poses, t_kf_ns);
       if (!T_w_b)
-        throw RecordingError(path + ": no ground-truth pose on " + options.pose_topic +
-                             " within 50 ms of the keyframe at t_ns " + std::to_string(t_kf_ns) +
+        throw RecordingError(path + ": no ground-truth pose on " + options.pose_topic + " within " +
+                             std::to_string(kMaxPoseGapNs / 1'000'000) +
+                             " ms of the keyframe at t_ns " + std::to_string(t_kf_ns) +
                              " (map poses: ground_truth)");
       T_w_c_map = *T_w_b * T_b_c;
     }

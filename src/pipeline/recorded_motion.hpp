@@ -49,8 +49,10 @@ RecordedMotion read_recorded_motion(
 
 /// T_w_x at t_ns, interpolated between the two poses around it (position linearly, rotation by
 /// slerp); nullopt outside [first, last] stamp or when the gap between them exceeds max_gap_ns.
+/// The default gap: ground truth at 20 Hz or faster is interpolated, a dropout is not.
+inline constexpr std::int64_t kMaxPoseGapNs = 50'000'000;
 std::optional<geometry::Pose> interpolate_pose(const std::vector<StampedPose>& poses,
                                                std::int64_t t_ns,
-                                               std::int64_t max_gap_ns = 50'000'000);
+                                               std::int64_t max_gap_ns = kMaxPoseGapNs);
 
 }  // namespace vigs::pipeline

@@ -5,6 +5,7 @@
 #include <future>
 #include <utility>
 
+#include "core/geometry/body_from_camera.hpp"
 #include "sim/floor_plan.hpp"
 #include "sim/realistic_motion.hpp"
 #include "sim/spline_trajectory.hpp"
@@ -33,20 +34,11 @@ double seconds_since(Clock::time_point t0) {
 
 }  // namespace
 
-geometry::Pose body_from_camera(const config::ExtrinsicsSettings& e) {
-  geometry::Pose T = geometry::Pose::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) T.linear()(i, j) = e.R_b_c[static_cast<std::size_t>(i * 3 + j)];
-  }
-  T.translation() = Eigen::Vector3d(e.t_b_c_m[0], e.t_b_c_m[1], e.t_b_c_m[2]);
-  return T;
-}
-
 Simulator::Simulator(const config::RobotConfig& cfg)
     : cfg_(cfg),
       scene_(make_preset(cfg.sim.preset, static_cast<std::uint64_t>(cfg.sim.seed))),
       camera_(PinholeCamera::from_settings(cfg.camera)),
-      T_b_c_(body_from_camera(cfg.extrinsics)) {
+      T_b_c_(geometry::body_from_camera(cfg.extrinsics)) {
   TrajectoryParams tp;
   tp.spacing_m = cfg.sim.speed_mps * tp.knot_interval_s;
   tp.height_m = cfg.sim.camera_height_m;

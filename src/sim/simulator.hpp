@@ -69,7 +69,4 @@ class Simulator {
   double duration_s_ = 0.0;
 };
 
-/// T_b_c from the extrinsics settings.
-geometry::Pose body_from_camera(const config::ExtrinsicsSettings& e);
-
 }  // namespace vigs::sim

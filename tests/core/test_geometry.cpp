@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "core/geometry/body_from_camera.hpp"
 #include "core/geometry/se3.hpp"
 #include "core/geometry/so3.hpp"
 #include "core/types/pinhole_camera.hpp"
@@ -12,6 +13,20 @@ namespace {
 Eigen::Vector3d random_vec(std::mt19937& rng, double scale) {
   std::normal_distribution<double> n(0.0, scale);
   return {n(rng), n(rng), n(rng)};
+}
+
+// The robot file's R_b_c is row-major: the default maps the camera's optical axis (z) to the
+// body's forward axis (x) and the camera's right (x) to the body's -y; read as column-major it
+// would map z to -y.
+TEST(BodyFromCamera, ReadsTheRowMajorRotationAndTheLeverArm) {
+  config::ExtrinsicsSettings e;
+  e.t_b_c_m = {0.1, 0.05, -0.02};
+  const Pose T_b_c = body_from_camera(e);
+  EXPECT_TRUE((T_b_c.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX()));
+  EXPECT_TRUE((T_b_c.linear() * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE(T_b_c.translation().isApprox(Eigen::Vector3d(0.1, 0.05, -0.02)));
+  // a point 2 m ahead of the camera is 2 m ahead of the camera's origin in the body frame
+  EXPECT_TRUE((T_b_c * Eigen::Vector3d(0, 0, 2)).isApprox(Eigen::Vector3d(2.1, 0.05, -0.02)));
 }
 
 TEST(So3, ExpLogRoundTripIncludingSmallAndNearPi) {
