@@ -72,7 +72,9 @@ using KeyframeRing = rt::SpscRing<std::unique_ptr<MapperKeyframe>>;
 
 class Mapper {
  public:
-  /// `ring` is consumed only from tick(). `pool` may be null.
+  /// `ring` is consumed only from tick(). `pool` may be null. The mapper holds the views of the
+  /// last `max_keyframes` keyframes for training (the oldest is dropped): 96 trained no better
+  /// than 32 on the 3-minute office, at three times the views' memory (BENCHMARKS.md, #12).
   Mapper(const config::MappingSettings& s, KeyframeRing& ring, rt::WorkerTeam* pool,
          std::size_t max_pending = 4, std::size_t max_keyframes = 32);
 
