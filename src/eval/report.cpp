@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -152,6 +153,20 @@ void measure_map_and_run(const ReportOptions& opt, const Trajectory& est, const 
     // for a map built at them (the ground truth's world frame, not the estimate's).
     r.rendered_at_ground_truth = r.run_stats.map_poses == "ground_truth";
     Trajectory cam = r.rendered_at_ground_truth ? gt : est;
+    if (r.rendered_at_ground_truth) {
+      // Only the frames the run processed: the recording's ground truth runs on past a run cut
+      // short (replay --frames), where the map holds nothing.
+      double t_first_s = std::numeric_limits<double>::infinity();
+      double t_last_s = -t_first_s;
+      for (const TimedPose& p : est.poses) {
+        t_first_s = std::min(t_first_s, p.t_s);
+        t_last_s = std::max(t_last_s, p.t_s);
+      }
+      const double dt_s = opt.quality.max_dt_s;
+      std::erase_if(cam.poses, [&](const TimedPose& p) {
+        return p.t_s < t_first_s - dt_s || p.t_s > t_last_s + dt_s;
+      });
+    }
     if (!opt.estimate_is_camera)  // then both are of the body
       for (auto& p : cam.poses) p.T_w_x = p.T_w_x * opt.T_b_c;
     std::stable_sort(cam.poses.begin(), cam.poses.end(),
