@@ -19,7 +19,6 @@
 #include "io/json_text.hpp"
 #include "io/mcap/damage_object.hpp"
 #include "io/output_guard.hpp"
-#include "sim/simulator.hpp"
 
 namespace vigs::apps {
 namespace {
