@@ -8,7 +8,7 @@ geometry::Pose MapLoopCorrection::place(const tracking::LoopCloser& loops) {
   if (loops.graph().num_nodes() == 0)
     throw std::invalid_argument("MapLoopCorrection::place: the loop closer has no keyframe");
   const std::size_t k = loops.graph().num_nodes() - 1;
-  const geometry::Pose T_w_c = loops.graph().pose(static_cast<int>(k));
+  const geometry::Pose T_w_c = loops.solved(k);
   if (placed_.size() <= k) {
     placed_.resize(k + 1, geometry::Pose::Identity());
     is_placed_.resize(k + 1, 0);
@@ -23,7 +23,7 @@ std::size_t MapLoopCorrection::apply(const tracking::LoopCloser& loops, mapping:
   const std::size_t n = std::min(placed_.size(), loops.graph().num_nodes());
   for (std::size_t k = 0; k < n; ++k) {
     if (!is_placed_[k]) continue;
-    const geometry::Pose& T_new = loops.graph().pose(static_cast<int>(k));
+    const geometry::Pose T_new = loops.solved(k);
     const geometry::Pose T_new_old = T_new * placed_[k].inverse();
     const double turn = Eigen::AngleAxisd(T_new_old.linear()).angle();
     if (T_new_old.translation().norm() < kMinMoveM && turn < kMinTurnRad) continue;

@@ -1,7 +1,7 @@
 #pragma once
 // Keeps the Gaussian map on the loop closer's solved trajectory (tracking.loop_closure), for the
 // live mapper and the lockstep replay alike. A keyframe is placed in the map at its solved
-// pose in the closer's graph (its odometry pose carried by the corrections found so far), and
+// pose (LoopCloser::solved: its odometry pose carried by the corrections found so far), and
 // this remembers where each keyframe's part of the map stands. After a closure re-solved the
 // graph, apply() moves every keyframe whose solved pose moved since by the difference
 // (mapping::Mapper::move_keyframes). The map and trajectory.tum (the corrected poses) then

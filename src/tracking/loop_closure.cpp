@@ -140,6 +140,7 @@ bool LoopCloser::add_keyframe(const Keyframe& kf, bool after_restart) {
   const int node = graph_.add_node(T_w_c_graph);
   node_t_ns_.push_back(kf.t_ns);
   node_estimate_.push_back(kf.T_w_c);
+  node_after_restart_.push_back(node > 0 && after_restart ? 1 : 0);
   if (node > 0) {
     PoseGraphEdge e;
     e.i = node - 1;
@@ -213,13 +214,80 @@ const PoseGraphResult& LoopCloser::optimize() {
   return stats_.last_optimization;
 }
 
+geometry::Pose LoopCloser::correction(std::size_t node) const {
+  if (stats_.closures == 0)
+    return graph_.pose(static_cast<int>(node)) * node_estimate_[node].inverse();
+  // The window of keyframes whose solved corrections are smoothed, not across a restart
+  // (where the correction jumps for a reason).
+  std::size_t first = node > kCorrectionHalfWindow ? node - kCorrectionHalfWindow : 0;
+  std::size_t last = std::min(node + kCorrectionHalfWindow, node_estimate_.size() - 1);
+  for (std::size_t m = node; m > first; --m) {
+    if (node_after_restart_[m]) first = m;
+  }
+  for (std::size_t m = node + 1; m <= last; ++m) {
+    if (node_after_restart_[m]) {
+      last = m - 1;
+      break;
+    }
+  }
+  // A straight line through the window's corrections (translation, and rotation as a tangent
+  // vector at this keyframe's), read at this keyframe: the mean where the window is
+  // symmetric, and no lag at the ends of the chain (the newest keyframe) where drift grows
+  // along the path.
+  const auto C_of = [&](std::size_t m) {
+    return geometry::Pose(graph_.pose(static_cast<int>(m)) * node_estimate_[m].inverse());
+  };
+  const geometry::Pose C_here = C_of(node);
+  const Eigen::Matrix3d R_here = C_here.linear();
+  double s_x = 0.0, s_xx = 0.0;
+  Eigen::Matrix<double, 6, 1> s_y = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 1> s_xy = Eigen::Matrix<double, 6, 1>::Zero();
+  for (std::size_t m = first; m <= last; ++m) {
+    const geometry::Pose C = C_of(m);
+    const double x = static_cast<double>(m) - static_cast<double>(node);
+    Eigen::Matrix<double, 6, 1> y;
+    y << geometry::so3_log<double>(Eigen::Matrix3d(R_here.transpose() * C.linear())),
+        C.translation();
+    s_x += x;
+    s_xx += x * x;
+    s_y += y;
+    s_xy += x * y;
+  }
+  const double n = static_cast<double>(last - first + 1);
+  const double det = n * s_xx - s_x * s_x;
+  // Intercept of the least-squares line; a window of one keyframe is that keyframe's own.
+  const Eigen::Matrix<double, 6, 1> y0 =
+      det > 0.0 ? ((s_xx * s_y - s_x * s_xy) / det).eval() : (s_y / n).eval();
+  geometry::Pose out = geometry::Pose::Identity();
+  out.linear() = geometry::normalize_rotation<double>(
+      Eigen::Matrix3d(R_here * geometry::so3_exp<double>(Eigen::Vector3d(y0.head<3>()))));
+  out.translation() = y0.tail<3>();
+  return out;
+}
+
+geometry::Pose LoopCloser::solved(std::size_t node) const {
+  if (stats_.closures == 0) return graph_.pose(static_cast<int>(node));
+  return correction(node) * node_estimate_[node];
+}
+
 geometry::Pose LoopCloser::corrected(std::int64_t t_ns, const geometry::Pose& T_w_c) const {
   if (stats_.closures == 0) return T_w_c;  // bit for bit: nothing was measured to correct it
   const auto it = std::upper_bound(node_t_ns_.begin(), node_t_ns_.end(), t_ns);
   if (it == node_t_ns_.begin()) return T_w_c;
   const auto k = static_cast<std::size_t>(it - node_t_ns_.begin()) - 1;
-  const geometry::Pose T_w_c_new =
-      graph_.pose(static_cast<int>(k)) * node_estimate_[k].inverse() * T_w_c;
+  geometry::Pose C = correction(k);
+  if (k + 1 < node_t_ns_.size() && t_ns > node_t_ns_[k]) {
+    // Between two keyframes the correction goes from one's to the other's (rotation by slerp,
+    // translation linearly), so that no frame steps where the reference keyframe changes.
+    const double u = static_cast<double>(t_ns - node_t_ns_[k]) /
+                     static_cast<double>(node_t_ns_[k + 1] - node_t_ns_[k]);
+    const geometry::Pose C_next = correction(k + 1);
+    const Eigen::Quaterniond q =
+        Eigen::Quaterniond(C.linear()).slerp(u, Eigen::Quaterniond(C_next.linear()));
+    C.translation() = (1.0 - u) * C.translation() + u * C_next.translation();
+    C.linear() = q.normalized().toRotationMatrix();
+  }
+  const geometry::Pose T_w_c_new = C * T_w_c;
   geometry::Pose out = geometry::Pose::Identity();
   out.linear() = geometry::normalize_rotation<double>(Eigen::Matrix3d(T_w_c_new.linear()));
   out.translation() = T_w_c_new.translation();

@@ -18,8 +18,16 @@
 //   relative pose, with the correspondence distance shrinking 0.4 -> 0.15 m -> the tracker's;
 //   accepted when it converges, is not degenerate, matches min_inlier_ratio of the points and
 //   moved the guess less than search_radius_m. The result is a loop edge.
-// - optimize() solves the graph; corrected(t_ns, T_w_c) moves a pose estimated at t_ns with
-//   the correction of the newest keyframe at or before t_ns (T_kf_opt T_kf_est^-1 T_w_c).
+// - optimize() solves the graph. A keyframe's correction (T_kf_opt T_kf_est^-1, applied on the
+//   left) is read off a straight line fitted through the solved corrections of the keyframes
+//   within kCorrectionHalfWindow of it: the odometry's drift changes slowly along the path,
+//   while each loop edge carries its own centimetre of GICP noise (sparse clouds), which the
+//   drift model's loose odometry edges let pull its keyframe alone. Unsmoothed, the corrected
+//   trajectory of the 3-minute office jumped by up to 2.2 cm from one frame to the next.
+//   solved(k) is the keyframe's pose so corrected; the map follows it.
+// - corrected(t_ns, T_w_c) moves a pose estimated at t_ns with the correction interpolated in
+//   time between the keyframes at or before and after t_ns: each keyframe's part of the map
+//   moves with its own correction, and a frame between two sees both parts.
 //
 // Memory: an anchor keeps about 7,000 points of 48 B (0.3 MB) at 720x480; one a metre of new
 // path, so about 50 MB for the 175 m office loop. Bounded by max_anchor_mb: beyond it the
@@ -68,12 +76,22 @@ class LoopCloser {
   /// there is no odometry between them. Returns true when it closed a loop.
   bool add_keyframe(const Keyframe& kf, bool after_restart = false);
 
+  /// Keyframes on either side whose solved corrections are smoothed into one's correction
+  /// (about 1.5 m of path at the office's keyframe spacing; the drift it smooths changes over
+  /// tens of metres).
+  static constexpr std::size_t kCorrectionHalfWindow = 5;
+
   /// Solves the pose graph with every loop edge so far (no-op without one).
   const PoseGraphResult& optimize();
 
-  /// A pose the odometry estimated at t_ns, corrected as its reference keyframe was (the
-  /// newest at or before t_ns); unchanged (bit for bit) before the first keyframe and while
-  /// no loop was closed.
+  /// Where keyframe `node` (add_keyframe order) stands after the corrections: its estimate
+  /// moved by its smoothed correction; the graph's own pose while no loop was closed.
+  [[nodiscard]] geometry::Pose solved(std::size_t node) const;
+
+  /// A pose the odometry estimated at t_ns, corrected as the keyframes around it were: the
+  /// newest at or before t_ns and the next, interpolated in time (the newest's alone after the
+  /// last keyframe); unchanged (bit for bit) before the first keyframe and while no loop was
+  /// closed.
   [[nodiscard]] geometry::Pose corrected(std::int64_t t_ns, const geometry::Pose& T_w_c) const;
 
   [[nodiscard]] const LoopClosureStats& stats() const { return stats_; }
@@ -88,6 +106,8 @@ class LoopCloser {
   [[nodiscard]] const Anchor* candidate(std::int64_t t_ns, const geometry::Pose& T_w_c) const;
   /// No anchor within anchor_spacing_m of the node seen within 30 degrees of its view.
   [[nodiscard]] bool new_place(int node) const;
+  /// A node's correction, applied on the left: T_opt T_est^-1 smoothed over the window.
+  [[nodiscard]] geometry::Pose correction(std::size_t node) const;
   /// Drops the most redundant anchors while the kept clouds exceed max_anchor_mb.
   void bound_anchors();
   /// Registers `source_c` (at T_w_c) to the anchor; the loop edge when verified.
@@ -102,6 +122,7 @@ class LoopCloser {
   PoseGraph graph_;
   std::vector<std::int64_t> node_t_ns_;
   std::vector<geometry::Pose> node_estimate_;  ///< the tracker's poses (graph_ holds the solved)
+  std::vector<char> node_after_restart_;       ///< its odometry edge is loose (tracker restart)
   std::vector<Anchor> anchors_;
   LoopClosureStats stats_;
 };

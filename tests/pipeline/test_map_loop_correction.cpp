@@ -1,7 +1,7 @@
 // MapLoopCorrection (map_loop_correction.hpp), the part the live mapper and the lockstep replay
 // share: on a synthetic room route that returns to its start with drift, each keyframe's
-// Gaussians end where the loop closer's final solution puts that keyframe, and without it they
-// stay where the drifted odometry put them.
+// Gaussians end where the loop closer's final solution puts that keyframe
+// (LoopCloser::solved), and without it they stay where the drifted odometry put them.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -71,7 +71,8 @@ Outcome run(bool follow) {
   for (std::size_t i = 0; i < map.size(); ++i)
     r.gaussian_w[mapper.anchors()[i]] =
         Eigen::Vector3d(map.mean_w[3 * i], map.mean_w[3 * i + 1], map.mean_w[3 * i + 2]);
-  for (int k = 0; k <= n; ++k) r.solved_w.push_back(loops.graph().pose(k) * point_c(k));
+  for (int k = 0; k <= n; ++k)
+    r.solved_w.push_back(loops.solved(static_cast<std::size_t>(k)) * point_c(k));
   return r;
 }
 

@@ -49,10 +49,20 @@ TEST(LoopCloser, ClosesADriftedReturnAndCorrectsTheTrajectory) {
   ASSERT_GT(raw, 0.08);
   EXPECT_LT(err, 0.02) << "raw " << raw << " m";
   EXPECT_LT(yaw_err, 0.25 * yaw_raw);
-  // A pose between two keyframes moves with the newest one before it; before the first
+  // After the last keyframe a pose moves with it; between two keyframes with the correction
+  // interpolated between theirs (at the identity a pose is its correction); before the first
   // keyframe nothing moves.
-  const geometry::Pose between = lc.corrected(t_last + kSecond / 2, r.estimate[last]);
-  EXPECT_TRUE(between.isApprox(fixed, 1e-12));
+  const geometry::Pose after = lc.corrected(t_last + kSecond / 2, r.estimate[last]);
+  EXPECT_TRUE(after.isApprox(fixed, 1e-12));
+  const geometry::Pose I = geometry::Pose::Identity();
+  const geometry::Pose C_a = lc.corrected(t_last - kSecond, I);
+  const geometry::Pose C_b = lc.corrected(t_last, I);
+  const geometry::Pose C_mid = lc.corrected(t_last - kSecond / 2, I);
+  ASSERT_GT((C_b.translation() - C_a.translation()).norm(), 1e-3);  // the two differ
+  EXPECT_LT((C_mid.translation() - 0.5 * (C_a.translation() + C_b.translation())).norm(), 1e-9);
+  const double turn = Eigen::AngleAxisd(C_a.linear().transpose() * C_b.linear()).angle();
+  EXPECT_NEAR(Eigen::AngleAxisd(C_a.linear().transpose() * C_mid.linear()).angle(), 0.5 * turn,
+              1e-9);
   const geometry::Pose before = lc.corrected(-1, r.estimate[last]);
   EXPECT_TRUE(before.isApprox(r.estimate[last], 1e-12));
 }
