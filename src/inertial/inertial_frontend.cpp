@@ -7,6 +7,19 @@
 #include "inertial/imu_interpolation.hpp"
 
 namespace vigs::inertial {
+namespace {
+
+StillnessOptions stillness_options(const InertialFrontendOptions& o) {
+  StillnessOptions s;
+  s.window_s = o.zupt_window_s;
+  const double sqrt_rate = std::sqrt(std::max(o.rate_hz, 1.0));
+  s.accel_sigma_mps2 = o.noise.accel_noise_density * sqrt_rate;
+  // Room for a stretch of lost frames the fused update bridges (longer ones are never still).
+  s.capacity = std::max(2, o.buffer_capacity);
+  return s;
+}
+
+}  // namespace
 
 InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings& imu,
                                                       const config::ExtrinsicsSettings& extrinsics,
@@ -34,6 +47,12 @@ InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings&
   o.extra_accel_random_walk = inertial.fused_extra_accel_random_walk;
   o.initial_gravity_tilt_sigma_rad = inertial.fused_gravity_tilt_sigma_rad;
   o.gravity_tilt_random_walk = inertial.fused_gravity_tilt_random_walk;
+  o.zupt = inertial.fused_zupt;
+  o.zupt_window_s = inertial.fused_zupt_window_s;
+  o.zupt_threshold = inertial.fused_zupt_threshold;
+  o.zupt_sigma_mps = inertial.fused_zupt_sigma_mps;
+  o.zupt_max_tracked_speed_mps = inertial.fused_zupt_max_tracked_speed_mps;
+  o.rate_hz = imu.rate_hz;
   return o;
 }
 
@@ -42,6 +61,7 @@ InertialFrontend::InertialFrontend(const InertialFrontendOptions& options)
       ring_(static_cast<std::size_t>(std::max(2, options.buffer_capacity))),
       pi_(options.scheme, options.noise),
       bias_(options.bias),
+      still_(stillness_options(options)),
       g_w_mps2_(options.g_w_mps2) {}
 
 void InertialFrontend::set_biases(const Eigen::Vector3d& gyro_rps,
@@ -76,6 +96,7 @@ void InertialFrontend::advance_to(std::int64_t t_ns) {
     const ImuSample s = front();
     pop_front();
     if (started_ && s.t_ns > pi_.t_end_ns()) pi_.integrate(s);
+    still_.add(s);
     last_consumed_ = s;
     has_consumed_ = true;
   }
@@ -150,7 +171,8 @@ bool InertialFrontend::reset_from_tracked(std::int64_t t_cam_ns, const geometry:
 }
 
 bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred,
-                                       MatS& P_pred) {
+                                       MatS& P_pred, bool& still) {
+  still = false;
   if (!started_ || t_ns < pi_.t_end_ns()) return false;
   advance_to(t_ns);
   Preintegrator scratch;
@@ -177,6 +199,29 @@ bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState&
   P_pred.block<3, 3>(12, 12).diagonal().array() += qa;
   const double rt = options_.gravity_tilt_random_walk;
   P_pred.block<2, 2>(kGravityRow, kGravityRow).diagonal().array() += rt * rt * dt;
+
+  // At rest over the interval: no unmodelled acceleration, and the velocity measured as 0.
+  if (options_.zupt) {
+    const std::optional<double> T = still_.statistic(t_last_ns_, t_ns);
+    if (T && *T <= options_.zupt_threshold) {
+      VecS dx;
+      double mahalanobis = 0.0;
+      if (tracked_speed_mps_ <= options_.zupt_max_tracked_speed_mps &&
+          zero_velocity_update(s_pred.v_w_b_mps, options_.zupt_sigma_mps, kZuptGate, P_pred, dx,
+                               mahalanobis)) {
+        s_pred.R_w_b = geometry::so3_exp<double>(Eigen::Vector3d(dx.head<3>())) * s_pred.R_w_b;
+        s_pred.p_w_b_m += dx.segment<3>(3);
+        s_pred.v_w_b_mps += dx.segment<3>(6);
+        if (commit) {
+          correct_biases(dx);
+          ++counters_.zero_velocity_updates;
+        }
+        still = true;
+        return true;
+      }
+      if (commit) ++counters_.zupt_gated;
+    }
+  }
   // Unmodelled white acceleration q over dt (isotropic, so the frame does not matter):
   // Q_pp = q dt^3/3, Q_pv = q dt^2/2, Q_vv = q dt.
   const double q = options_.extra_accel_noise_density * options_.extra_accel_noise_density;
@@ -189,12 +234,21 @@ bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState&
   return true;
 }
 
+void InertialFrontend::correct_biases(const VecS& dx) {
+  bias_.set_bias_rps(bias_.bias_rps() + dx.segment<3>(9));
+  if (options_.estimate_accel_bias) bias_accel_mps2_ += dx.segment<3>(12);
+  // Zero while the tilt is pinned (prior sigma and random walk 0: its rows of P stay 0).
+  const Eigen::Vector3d tilt(dx(kGravityRow), dx(kGravityRow + 1), 0.0);
+  g_w_mps2_ = geometry::so3_exp<double>(tilt) * g_w_mps2_;
+}
+
 std::optional<InertialFrontend::PosePrediction> InertialFrontend::predict_camera_pose_fused(
     std::int64_t t_cam_ns) {
   const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
   NavState s;
   MatS P;
-  if (!propagate_fused(t_ns, false, s, P)) return std::nullopt;
+  bool still = false;
+  if (!propagate_fused(t_ns, false, s, P, still)) return std::nullopt;
   PosePrediction out;
   out.T_w_c = s.T_w_b() * options_.T_b_c;
   const Mat6xS J = camera_pose_jacobian(s.p_w_b_m);
@@ -209,6 +263,8 @@ bool InertialFrontend::update_fused(std::int64_t t_cam_ns, const geometry::Pose&
   NavState s;
   if (!started_) {
     advance_to(t_ns);
+    last_update_still_ = false;
+    tracked_speed_mps_ = 0.0;  // the first frame starts at rest
     s.R_w_b = T_w_b.linear();
     s.p_w_b_m = T_w_b.translation();
     // The first frame defines the world: its pose is exact; the body starts at rest.
@@ -225,7 +281,7 @@ bool InertialFrontend::update_fused(std::int64_t t_cam_ns, const geometry::Pose&
     P_.block<2, 2>(kGravityRow, kGravityRow).diagonal().setConstant(st * st);
   } else {
     MatS P;
-    if (!propagate_fused(t_ns, true, s, P)) return false;
+    if (!propagate_fused(t_ns, true, s, P, last_update_still_)) return false;
     P_ = P;
     const Mat6xS J = camera_pose_jacobian(s.p_w_b_m);
     const geometry::Pose T_w_c_pred = s.T_w_b() * options_.T_b_c;
@@ -237,15 +293,13 @@ bool InertialFrontend::update_fused(std::int64_t t_cam_ns, const geometry::Pose&
     VecS dx;
     if (fused_pose_update(J, e, information, P_, dx)) {
       s.v_w_b_mps += dx.segment<3>(6);
-      bias_.set_bias_rps(bias_.bias_rps() + dx.segment<3>(9));
-      if (options_.estimate_accel_bias) bias_accel_mps2_ += dx.segment<3>(12);
-      // Zero while the tilt is pinned (prior sigma and random walk 0: its rows of P stay 0).
-      const Eigen::Vector3d tilt(dx(kGravityRow), dx(kGravityRow + 1), 0.0);
-      g_w_mps2_ = geometry::so3_exp<double>(tilt) * g_w_mps2_;
+      correct_biases(dx);
     }
     // R and p exactly the fused pose's (dx's pose part is e* to first order).
     s.R_w_b = T_w_b.linear();
     s.p_w_b_m = T_w_b.translation();
+    const double dt_s = 1e-9 * static_cast<double>(t_ns - t_last_ns_);
+    tracked_speed_mps_ = dt_s > 0.0 ? (s.p_w_b_m - state_.p_w_b_m).norm() / dt_s : 0.0;
   }
   state_ = s;
   T_w_c_last_ = T_w_c;

@@ -24,6 +24,7 @@
 #include "inertial/nav_state.hpp"
 #include "inertial/preintegrator.hpp"
 #include "inertial/state_propagation.hpp"
+#include "inertial/stillness_detector.hpp"
 
 namespace vigs::inertial {
 
@@ -58,6 +59,20 @@ struct InertialFrontendOptions {
   /// frame (state_propagation.hpp); both 0 pin gravity at g_w_mps2.
   double initial_gravity_tilt_sigma_rad = 0.0;
   double gravity_tilt_random_walk = 0.0;
+  /// Fused mode: zero-velocity update (ZUPT) when the IMU shows rest over an interval (the
+  /// StillnessDetector's statistic over at least `zupt_window_s` at or below `zupt_threshold`):
+  /// the interval's prediction leaves out the extra white acceleration (a body at rest does not
+  /// accelerate) and the velocity is measured as 0 with sigma `zupt_sigma_mps`, gated by its
+  /// Mahalanobis distance (kZuptGate) and by the speed between the last two fused poses (at
+  /// most `zupt_max_tracked_speed_mps`): an IMU-only test cannot tell rest from an even glide,
+  /// and a glide the filter has not yet learned would otherwise be held at v = 0 for good.
+  /// Per-sample sigma: noise density times sqrt(rate_hz).
+  bool zupt = true;
+  double zupt_window_s = 0.2;
+  double zupt_threshold = 7.0;
+  double zupt_sigma_mps = 0.01;
+  double zupt_max_tracked_speed_mps = 0.1;
+  double rate_hz = 200.0;
 
   static InertialFrontendOptions from(const config::ImuSettings& imu,
                                       const config::ExtrinsicsSettings& extrinsics,
@@ -71,7 +86,13 @@ struct InertialFrontendCounters {
   long extrapolated = 0;          ///< frame time beyond the newest sample: reading held
   long resets = 0;
   long restarts = 0;  ///< restart(): the motion state forgotten (the tracker restarted its map)
+  long zero_velocity_updates = 0;  ///< fused updates whose interval was still: ZUPT applied
+  long zupt_gated = 0;  ///< still by the IMU, but refused by a gate (filter or tracked speed)
 };
+
+/// Mahalanobis gate of the zero-velocity update: chi-square, 3 degrees of freedom, 99.9 %. A
+/// body gliding so evenly that the IMU reads it as still has a velocity the filter knows.
+inline constexpr double kZuptGate = 16.27;
 
 class InertialFrontend {
  public:
@@ -108,6 +129,8 @@ class InertialFrontend {
   /// Fused-mode covariance of [dtheta, dp, dv, dbg, dba, dg] at the last update.
   [[nodiscard]] const MatS& state_covariance() const { return P_; }
   [[nodiscard]] const Eigen::Vector3d& velocity_w_mps() const { return state_.v_w_b_mps; }
+  /// Fused mode: whether the last update_fused applied a zero-velocity update.
+  [[nodiscard]] bool last_update_still() const { return last_update_still_; }
 
   /// Forgets the motion state, keeping the samples and the bias estimates: the next
   /// reset_from_tracked / update_fused starts again as at the first frame (that pose exact, the
@@ -132,8 +155,12 @@ class InertialFrontend {
 
  private:
   void advance_to(std::int64_t t_ns);
-  /// Fused mode: integrates up to t and returns the predicted state and covariance.
-  bool propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred, MatS& P_pred);
+  /// Fused mode: integrates up to t and returns the predicted state and covariance, with the
+  /// zero-velocity update applied when the interval was still (`still` says so; its bias part
+  /// is kept only when `commit`).
+  bool propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred, MatS& P_pred, bool& still);
+  /// Moves the biases and gravity's tilt by their parts of a filter correction dx.
+  void correct_biases(const VecS& dx);
   [[nodiscard]] ImuSample reading_at(std::int64_t t_ns);
   [[nodiscard]] const ImuSample& front() const { return ring_[head_]; }
   void pop_front();
@@ -152,6 +179,9 @@ class InertialFrontend {
   geometry::Pose T_w_c_last_;   ///< last tracked camera pose
   std::int64_t t_last_ns_ = 0;  ///< time of the last reset
   GyroBiasEstimator bias_;
+  StillnessDetector still_;
+  bool last_update_still_ = false;
+  double tracked_speed_mps_ = 0.0;  ///< between the last two fused poses (body origin)
   Eigen::Vector3d bias_accel_mps2_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d g_w_mps2_;
   MatS P_ = MatS::Zero();

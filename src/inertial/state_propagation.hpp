@@ -29,6 +29,7 @@
 // here is checked by central differences in tests/inertial/test_state_propagation.cpp.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <limits>
 
 #include "core/geometry/so3.hpp"
 #include "inertial/nav_state.hpp"
@@ -103,6 +104,33 @@ inline bool fused_pose_update(const Mat6xS& J, const Vec6& e_star, const Mat6& Y
   MatS P_new = P - PJt * S_inv * PJt.transpose();
   P = 0.5 * (P_new + P_new.transpose());
   return dx.allFinite() && P.allFinite();
+}
+
+/// Zero-velocity update: the measurement 0 = v + n, n ~ N(0, sigma^2 I), of a body the IMU
+/// shows at rest (stillness_detector.hpp), applied to the state error with covariance P whose
+/// current velocity estimate is `v_w_mps`. H = [0 0 I 0 ...], so
+///   S = P_vv + sigma^2 I,  K = P H^T S^-1,  dx = K (0 - v),  P+ = P - K H P,
+/// and through P's correlations it moves the pose and the biases too. `mahalanobis` gets
+/// v^T S^-1 v; above `gate` (a moving body that reads as still) nothing is applied. Returns
+/// whether P and dx were updated (false too when S is not positive definite or the result is
+/// not finite).
+inline bool zero_velocity_update(const Eigen::Vector3d& v_w_mps, double sigma_mps, double gate,
+                                 MatS& P, VecS& dx, double& mahalanobis) {
+  const Eigen::Matrix<double, kStateDim, 3> PHt = P.middleCols<3>(6);
+  const Eigen::Matrix3d S =
+      P.block<3, 3>(6, 6) + sigma_mps * sigma_mps * Eigen::Matrix3d::Identity();
+  const Eigen::LLT<Eigen::Matrix3d> llt(S);
+  mahalanobis = std::numeric_limits<double>::infinity();
+  if (llt.info() != Eigen::Success) return false;
+  const Eigen::Vector3d S_inv_v = llt.solve(v_w_mps);
+  mahalanobis = v_w_mps.dot(S_inv_v);
+  if (!(mahalanobis <= gate)) return false;
+  const VecS dx_new = -PHt * S_inv_v;
+  const MatS P_new = P - PHt * llt.solve(PHt.transpose());
+  if (!dx_new.allFinite() || !P_new.allFinite()) return false;
+  dx = dx_new;
+  P = 0.5 * (P_new + P_new.transpose());
+  return true;
 }
 
 }  // namespace vigs::inertial

@@ -172,6 +172,7 @@ TrackedFrame Odometry::track(const RgbdView& frame) {
       if (inertial_.update_fused(t_ns, out.T_w_c, out.information)) {
         ++counters_.imu_resets;
         ++counters_.fused_updates;
+        if (inertial_.last_update_still()) ++counters_.zero_velocity_updates;
       }
     } else if (inertial_.reset_from_tracked(t_ns, out.T_w_c)) {
       ++counters_.imu_resets;

@@ -105,6 +105,7 @@ struct OdometryCounters {
   long imu_guesses = 0;        ///< frames whose guess came from the IMU
   long imu_unavailable = 0;    ///< imu mode but no prediction (tracker fell back)
   long fused_updates = 0;      ///< fused mode: filter updates (incl. the start)
+  long zero_velocity_updates = 0;  ///< fused mode: updates whose interval the IMU showed still
 };
 
 class Odometry {

@@ -39,6 +39,18 @@ struct InertialSettings {
   /// prior sigma at the first frame and random walk of the map's tilt; 0 and 0 pin it.
   double fused_gravity_tilt_sigma_rad = 0.0;
   double fused_gravity_tilt_random_walk = 0.0;  ///< rad/sqrt(s)
+  /// Zero-velocity update while the IMU shows rest (inertial/stillness_detector.hpp): a
+  /// carrier standing in a corridor while people walk past would otherwise let GICP's weak
+  /// direction walk the pose centimetres (BENCHMARKS.md, thirty-third session).
+  bool fused_zupt = true;
+  double fused_zupt_window_s = 0.2;  ///< s: the stillness test looks back at least this far
+  /// Detector statistic at or below which the body is still (3 at rest; the simulated office's
+  /// standstills read 2.6-5.5, its slowest motion 8 and up).
+  double fused_zupt_threshold = 7.0;
+  double fused_zupt_sigma_mps = 0.01;  ///< m/s: sigma of the zero-velocity measurement
+  /// m/s: no update while the last two fused poses are farther apart than this over their
+  /// interval (an even glide reads as rest to the IMU; the standstill's walk was 7 cm/s at most).
+  double fused_zupt_max_tracked_speed_mps = 0.1;
 
   void visit(Visitor& v) {
     v.field("scheme", scheme, {"midpoint", "zoh"},
@@ -82,6 +94,20 @@ struct InertialSettings {
     v.field("fused_gravity_tilt_random_walk", fused_gravity_tilt_random_walk,
             {"rad/sqrt(s)", 0.0, 1.0,
              "fused tracking: random walk of gravity's tilt against the map as the map drifts"});
+    v.field("fused_zupt", fused_zupt,
+            "fused tracking: zero-velocity update while the IMU shows the body at rest");
+    v.field("fused_zupt_window_s", fused_zupt_window_s,
+            {"s", 0.02, 5.0, "fused tracking: the stillness test looks back at least this far"});
+    v.field("fused_zupt_threshold", fused_zupt_threshold,
+            {"-", 0.0, 1e6,
+             "fused tracking: still when the accelerometer's mean squared spread over the window, "
+             "in units of its noise variance (density^2 x rate), is at most this (3 at rest)"});
+    v.field("fused_zupt_sigma_mps", fused_zupt_sigma_mps,
+            {"m/s", 1e-4, 1.0, "fused tracking: sigma of the zero-velocity measurement"});
+    v.field("fused_zupt_max_tracked_speed_mps", fused_zupt_max_tracked_speed_mps,
+            {"m/s", 0.0, 10.0,
+             "fused tracking: no zero-velocity update while the last two fused poses moved "
+             "faster than this (an even glide reads as rest to the IMU)"});
   }
 };
 
