@@ -91,9 +91,7 @@ std::optional<geometry::Pose> interpolate_pose(const std::vector<StampedPose>& p
   const StampedPose& b = *after;
   if (b.t_ns - a.t_ns > max_gap_ns) return std::nullopt;
   const double u = static_cast<double>(t_ns - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
-  const Eigen::Quaterniond qa(a.T_w_x.linear()), qb(b.T_w_x.linear());
-  const Eigen::Vector3d p = (1.0 - u) * a.T_w_x.translation() + u * b.T_w_x.translation();
-  return geometry::make_pose(p, qa.slerp(u, qb));
+  return geometry::interpolate(a.T_w_x, b.T_w_x, u);
 }
 
 }  // namespace vigs::pipeline

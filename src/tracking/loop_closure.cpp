@@ -214,9 +214,12 @@ const PoseGraphResult& LoopCloser::optimize() {
   return stats_.last_optimization;
 }
 
+geometry::Pose LoopCloser::raw_correction(std::size_t node) const {
+  return graph_.pose(static_cast<int>(node)) * node_estimate_[node].inverse();
+}
+
 geometry::Pose LoopCloser::correction(std::size_t node) const {
-  if (stats_.closures == 0)
-    return graph_.pose(static_cast<int>(node)) * node_estimate_[node].inverse();
+  if (stats_.closures == 0) return raw_correction(node);
   // The window of keyframes whose solved corrections are smoothed, not across a restart
   // (where the correction jumps for a reason).
   std::size_t first = node > kCorrectionHalfWindow ? node - kCorrectionHalfWindow : 0;
@@ -234,16 +237,13 @@ geometry::Pose LoopCloser::correction(std::size_t node) const {
   // vector at this keyframe's), read at this keyframe: the mean where the window is
   // symmetric, and no lag at the ends of the chain (the newest keyframe) where drift grows
   // along the path.
-  const auto C_of = [&](std::size_t m) {
-    return geometry::Pose(graph_.pose(static_cast<int>(m)) * node_estimate_[m].inverse());
-  };
-  const geometry::Pose C_here = C_of(node);
+  const geometry::Pose C_here = raw_correction(node);
   const Eigen::Matrix3d R_here = C_here.linear();
   double s_x = 0.0, s_xx = 0.0;
   Eigen::Matrix<double, 6, 1> s_y = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 1> s_xy = Eigen::Matrix<double, 6, 1>::Zero();
   for (std::size_t m = first; m <= last; ++m) {
-    const geometry::Pose C = C_of(m);
+    const geometry::Pose C = raw_correction(m);
     const double x = static_cast<double>(m) - static_cast<double>(node);
     Eigen::Matrix<double, 6, 1> y;
     y << geometry::so3_log<double>(Eigen::Matrix3d(R_here.transpose() * C.linear())),
@@ -281,11 +281,7 @@ geometry::Pose LoopCloser::corrected(std::int64_t t_ns, const geometry::Pose& T_
     // translation linearly), so that no frame steps where the reference keyframe changes.
     const double u = static_cast<double>(t_ns - node_t_ns_[k]) /
                      static_cast<double>(node_t_ns_[k + 1] - node_t_ns_[k]);
-    const geometry::Pose C_next = correction(k + 1);
-    const Eigen::Quaterniond q =
-        Eigen::Quaterniond(C.linear()).slerp(u, Eigen::Quaterniond(C_next.linear()));
-    C.translation() = (1.0 - u) * C.translation() + u * C_next.translation();
-    C.linear() = q.normalized().toRotationMatrix();
+    C = geometry::interpolate(C, correction(k + 1), u);
   }
   const geometry::Pose T_w_c_new = C * T_w_c;
   geometry::Pose out = geometry::Pose::Identity();

@@ -106,6 +106,8 @@ class LoopCloser {
   [[nodiscard]] const Anchor* candidate(std::int64_t t_ns, const geometry::Pose& T_w_c) const;
   /// No anchor within anchor_spacing_m of the node seen within 30 degrees of its view.
   [[nodiscard]] bool new_place(int node) const;
+  /// The graph's solved pose of `node` times the inverse of its tracked estimate, unsmoothed.
+  [[nodiscard]] geometry::Pose raw_correction(std::size_t node) const;
   /// A node's correction, applied on the left: T_opt T_est^-1 smoothed over the window.
   [[nodiscard]] geometry::Pose correction(std::size_t node) const;
   /// Drops the most redundant anchors while the kept clouds exceed max_anchor_mb.

@@ -62,6 +62,21 @@ TEST(So3, RightJacobianMatchesNumericDerivative) {
   }
 }
 
+TEST(Se3, InterpolateGoesLinearlyAndBySlerpBetweenTheEnds) {
+  const Pose a = make_pose(Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(1, 2, 3));
+  const Pose b = make_pose(Eigen::Vector3d(0.5, 0.4, -0.3), Eigen::Vector3d(-1, 0, 5));
+  EXPECT_LT(pose_error(interpolate(a, b, 0.0), a).translation_m, 1e-12);
+  EXPECT_LT(pose_error(interpolate(a, b, 0.0), a).rotation_rad, 1e-9);
+  EXPECT_LT(pose_error(interpolate(a, b, 1.0), b).translation_m, 1e-12);
+  EXPECT_LT(pose_error(interpolate(a, b, 1.0), b).rotation_rad, 1e-9);
+  const Pose m = interpolate(a, b, 0.25);
+  EXPECT_LT((m.translation() - Eigen::Vector3d(0.5, 1.5, 3.5)).norm(), 1e-12);
+  // On the geodesic: a quarter of the relative rotation's angle from a, the rest to b.
+  const double whole = rotation_angle(a.linear().transpose() * b.linear());
+  EXPECT_NEAR(rotation_angle(a.linear().transpose() * m.linear()), 0.25 * whole, 1e-9);
+  EXPECT_NEAR(rotation_angle(m.linear().transpose() * b.linear()), 0.75 * whole, 1e-9);
+}
+
 TEST(Se3, PoseErrorAndCameraModel) {
   const Pose A = make_pose(Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(1, 2, 3));
   const Pose B = A * make_pose(Eigen::Vector3d(0, 0, 0.05), Eigen::Vector3d(0.01, 0, 0));

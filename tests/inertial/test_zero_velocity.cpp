@@ -235,12 +235,13 @@ LevelRun track_level_body(bool zupt, double measured_mps, const Mat6& Y_gicp) {
 TEST(FusedFilter, ZeroVelocityUpdateHoldsAStandingBodyThatGicpWalks) {
   const LevelRun with = track_level_body(true, 0.07, corridor_information());
   const LevelRun without = track_level_body(false, 0.07, corridor_information());
-  std::printf("GICP walks 7 cm/s for 3 s: fused pose moved %.1f cm with ZUPT (%ld updates), "
-              "%.1f cm without\n",
-              100.0 * with.final_x_m, with.zupts, 100.0 * without.final_x_m);
+  std::printf(
+      "GICP walks 7 cm/s for 3 s: fused pose moved %.1f cm with ZUPT (%ld updates), "
+      "%.1f cm without\n",
+      100.0 * with.final_x_m, with.zupts, 100.0 * without.final_x_m);
   EXPECT_EQ(with.zupts, 59);
   EXPECT_EQ(without.zupts, 0);
-  EXPECT_LT(std::abs(with.final_x_m), 0.06);  // measured 4.9 cm
+  EXPECT_LT(std::abs(with.final_x_m), 0.06);                               // measured 4.9 cm
   EXPECT_GT(std::abs(without.final_x_m), 3.0 * std::abs(with.final_x_m));  // measured 20.7 cm
   EXPECT_LT(with.speed_mps, 0.01);
 }

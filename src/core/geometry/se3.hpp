@@ -33,6 +33,15 @@ inline Pose se3_exp_rot_trans(const Vec6& xi) {
   return make_pose(Eigen::Vector3d(xi.head<3>()), Eigen::Vector3d(xi.tail<3>()));
 }
 
+/// The pose a fraction u of the way from a to b (u in [0, 1]): translation linearly, rotation
+/// by slerp (the shorter arc). The one interpolation of poses in the project: recorded
+/// trajectories between their samples, loop-closure corrections between keyframes.
+inline Pose interpolate(const Pose& a, const Pose& b, double u) {
+  const Eigen::Quaterniond qa(a.linear()), qb(b.linear());
+  return make_pose(Eigen::Vector3d((1.0 - u) * a.translation() + u * b.translation()),
+                   qa.slerp(u, qb));
+}
+
 /// Rotation angle of R in radians.
 inline double rotation_angle(const Eigen::Matrix3d& R) {
   return Eigen::AngleAxisd(R).angle();
