@@ -43,6 +43,7 @@ io::Json stats_json(const pipeline::ReplayResult& r, const std::string& recordin
   s["moving_points"] = c.moving_points;
   s["fused_updates"] = c.fused_updates;
   s["zero_velocity_updates"] = c.zero_velocity_updates;
+  s["zupt_gated"] = c.zupt_gated;
   s["lost"] = c.lost;
   s["lost_low_inliers"] = c.lost_low_inliers;
   s["lost_diverged"] = c.lost_diverged;

@@ -171,8 +171,7 @@ bool InertialFrontend::reset_from_tracked(std::int64_t t_cam_ns, const geometry:
 }
 
 bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred,
-                                       MatS& P_pred, bool& still) {
-  still = false;
+                                       MatS& P_pred) {
   if (!started_ || t_ns < pi_.t_end_ns()) return false;
   advance_to(t_ns);
   Preintegrator scratch;
@@ -216,7 +215,6 @@ bool InertialFrontend::propagate_fused(std::int64_t t_ns, bool commit, NavState&
           correct_biases(dx);
           ++counters_.zero_velocity_updates;
         }
-        still = true;
         return true;
       }
       if (commit) ++counters_.zupt_gated;
@@ -247,8 +245,7 @@ std::optional<InertialFrontend::PosePrediction> InertialFrontend::predict_camera
   const std::int64_t t_ns = t_cam_ns + options_.time_offset_ns;
   NavState s;
   MatS P;
-  bool still = false;
-  if (!propagate_fused(t_ns, false, s, P, still)) return std::nullopt;
+  if (!propagate_fused(t_ns, false, s, P)) return std::nullopt;
   PosePrediction out;
   out.T_w_c = s.T_w_b() * options_.T_b_c;
   const Mat6xS J = camera_pose_jacobian(s.p_w_b_m);
@@ -263,7 +260,6 @@ bool InertialFrontend::update_fused(std::int64_t t_cam_ns, const geometry::Pose&
   NavState s;
   if (!started_) {
     advance_to(t_ns);
-    last_update_still_ = false;
     tracked_speed_mps_ = 0.0;  // the first frame starts at rest
     s.R_w_b = T_w_b.linear();
     s.p_w_b_m = T_w_b.translation();
@@ -281,7 +277,7 @@ bool InertialFrontend::update_fused(std::int64_t t_cam_ns, const geometry::Pose&
     P_.block<2, 2>(kGravityRow, kGravityRow).diagonal().setConstant(st * st);
   } else {
     MatS P;
-    if (!propagate_fused(t_ns, true, s, P, last_update_still_)) return false;
+    if (!propagate_fused(t_ns, true, s, P)) return false;
     P_ = P;
     const Mat6xS J = camera_pose_jacobian(s.p_w_b_m);
     const geometry::Pose T_w_c_pred = s.T_w_b() * options_.T_b_c;

@@ -129,8 +129,6 @@ class InertialFrontend {
   /// Fused-mode covariance of [dtheta, dp, dv, dbg, dba, dg] at the last update.
   [[nodiscard]] const MatS& state_covariance() const { return P_; }
   [[nodiscard]] const Eigen::Vector3d& velocity_w_mps() const { return state_.v_w_b_mps; }
-  /// Fused mode: whether the last update_fused applied a zero-velocity update.
-  [[nodiscard]] bool last_update_still() const { return last_update_still_; }
 
   /// Forgets the motion state, keeping the samples and the bias estimates: the next
   /// reset_from_tracked / update_fused starts again as at the first frame (that pose exact, the
@@ -156,9 +154,9 @@ class InertialFrontend {
  private:
   void advance_to(std::int64_t t_ns);
   /// Fused mode: integrates up to t and returns the predicted state and covariance, with the
-  /// zero-velocity update applied when the interval was still (`still` says so; its bias part
-  /// is kept only when `commit`).
-  bool propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred, MatS& P_pred, bool& still);
+  /// zero-velocity update applied when the interval was still (its bias part kept, and the
+  /// update counted, only when `commit`).
+  bool propagate_fused(std::int64_t t_ns, bool commit, NavState& s_pred, MatS& P_pred);
   /// Moves the biases and gravity's tilt by their parts of a filter correction dx.
   void correct_biases(const VecS& dx);
   [[nodiscard]] ImuSample reading_at(std::int64_t t_ns);
@@ -180,7 +178,6 @@ class InertialFrontend {
   std::int64_t t_last_ns_ = 0;  ///< time of the last reset
   GyroBiasEstimator bias_;
   StillnessDetector still_;
-  bool last_update_still_ = false;
   double tracked_speed_mps_ = 0.0;  ///< between the last two fused poses (body origin)
   Eigen::Vector3d bias_accel_mps2_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d g_w_mps2_;

@@ -172,8 +172,9 @@ TrackedFrame Odometry::track(const RgbdView& frame) {
       if (inertial_.update_fused(t_ns, out.T_w_c, out.information)) {
         ++counters_.imu_resets;
         ++counters_.fused_updates;
-        if (inertial_.last_update_still()) ++counters_.zero_velocity_updates;
       }
+      counters_.zero_velocity_updates = inertial_.counters().zero_velocity_updates;
+      counters_.zupt_gated = inertial_.counters().zupt_gated;
     } else if (inertial_.reset_from_tracked(t_ns, out.T_w_c)) {
       ++counters_.imu_resets;
     }

@@ -106,6 +106,7 @@ struct OdometryCounters {
   long imu_unavailable = 0;    ///< imu mode but no prediction (tracker fell back)
   long fused_updates = 0;      ///< fused mode: filter updates (incl. the start)
   long zero_velocity_updates = 0;  ///< fused mode: updates whose interval the IMU showed still
+  long zupt_gated = 0;  ///< fused mode: still by the IMU, but the zero-velocity update was gated
 };
 
 class Odometry {

@@ -73,6 +73,14 @@ TEST_F(SimulatedOffice, ImuGuessTracksEveryFrameWithCentimetreAte) {
   EXPECT_EQ(r.counters.tracked + r.counters.not_converged, static_cast<long>(r.frames.size()) - 1);
   EXPECT_EQ(r.counters.imu_guesses, static_cast<long>(r.frames.size()) - 1);
   EXPECT_EQ(r.counters.imu_resets, static_cast<long>(r.frames.size()));
+  // The 2 s at rest (40 frame intervals, the first 0.2 s too short for the stillness window)
+  // are zero-velocity updates. The walk's even stretches read as rest to the accelerometer
+  // too; the tracked speed refuses them.
+  std::printf("zero-velocity updates %ld, gated %ld\n", r.counters.zero_velocity_updates,
+              r.counters.zupt_gated);
+  EXPECT_GE(r.counters.zero_velocity_updates, 30);
+  EXPECT_LE(r.counters.zero_velocity_updates, 40);
+  EXPECT_GT(r.counters.zupt_gated, 0);
   const eval::AteResult ate = testing::camera_ate(motion_, r.frames, cfg_);
   EXPECT_EQ(ate.pairs, r.frames.size());
   std::printf("imu guess: ATE rmse %.4f m, max %.4f m over %zu frames\n", ate.stats.rmse,
