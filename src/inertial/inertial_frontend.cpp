@@ -58,7 +58,7 @@ InertialFrontendOptions InertialFrontendOptions::from(const config::ImuSettings&
 
 InertialFrontend::InertialFrontend(const InertialFrontendOptions& options)
     : options_(options),
-      ring_(static_cast<std::size_t>(std::max(2, options.buffer_capacity))),
+      queue_(static_cast<std::size_t>(std::max(2, options.buffer_capacity))),
       pi_(options.scheme, options.noise),
       bias_(options.bias),
       still_(stillness_options(options)),
@@ -75,26 +75,16 @@ bool InertialFrontend::add_sample(const ImuSample& s) {
     ++counters_.samples_out_of_order;
     return false;
   }
-  if (count_ == ring_.size()) {
-    pop_front();
-    ++counters_.samples_dropped;
-  }
-  ring_[(head_ + count_) % ring_.size()] = s;
-  ++count_;
+  if (queue_.push_back(s)) ++counters_.samples_dropped;
   last_queued_t_ns_ = s.t_ns;
   ++counters_.samples_added;
   return true;
 }
 
-void InertialFrontend::pop_front() {
-  head_ = (head_ + 1) % ring_.size();
-  --count_;
-}
-
 void InertialFrontend::advance_to(std::int64_t t_ns) {
-  while (count_ > 0 && front().t_ns <= t_ns) {
-    const ImuSample s = front();
-    pop_front();
+  while (!queue_.empty() && queue_.front().t_ns <= t_ns) {
+    const ImuSample s = queue_.front();
+    queue_.pop_front();
     if (started_ && s.t_ns > pi_.t_end_ns()) pi_.integrate(s);
     still_.add(s);
     last_consumed_ = s;
@@ -104,10 +94,10 @@ void InertialFrontend::advance_to(std::int64_t t_ns) {
 
 ImuSample InertialFrontend::reading_at(std::int64_t t_ns) {
   if (has_consumed_ && last_consumed_.t_ns == t_ns) return last_consumed_;
-  if (count_ > 0) {
-    if (has_consumed_) return interpolate_sample(last_consumed_, front(), t_ns);
+  if (!queue_.empty()) {
+    if (has_consumed_) return interpolate_sample(last_consumed_, queue_.front(), t_ns);
     ++counters_.extrapolated;
-    return interpolate_sample(front(), front(), t_ns);
+    return interpolate_sample(queue_.front(), queue_.front(), t_ns);
   }
   ++counters_.extrapolated;
   return interpolate_sample(last_consumed_, last_consumed_, t_ns);

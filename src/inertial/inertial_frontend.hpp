@@ -13,12 +13,12 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
-#include <vector>
 
 #include "core/config/extrinsics_settings.hpp"
 #include "core/config/imu_settings.hpp"
 #include "core/config/inertial_settings.hpp"
 #include "core/geometry/se3.hpp"
+#include "core/history_ring.hpp"
 #include "core/types/imu_sample.hpp"
 #include "inertial/gyro_bias_estimator.hpp"
 #include "inertial/nav_state.hpp"
@@ -160,13 +160,9 @@ class InertialFrontend {
   /// Moves the biases and gravity's tilt by their parts of a filter correction dx.
   void correct_biases(const VecS& dx);
   [[nodiscard]] ImuSample reading_at(std::int64_t t_ns);
-  [[nodiscard]] const ImuSample& front() const { return ring_[head_]; }
-  void pop_front();
 
   InertialFrontendOptions options_;
-  std::vector<ImuSample> ring_;
-  std::size_t head_ = 0;
-  std::size_t count_ = 0;
+  HistoryRing<ImuSample> queue_;  ///< samples added but not yet integrated
   std::int64_t last_queued_t_ns_ = INT64_MIN;
   ImuSample last_consumed_;
   bool has_consumed_ = false;

@@ -23,8 +23,8 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
-#include <vector>
 
+#include "core/history_ring.hpp"
 #include "core/types/imu_sample.hpp"
 
 namespace vigs::inertial {
@@ -41,29 +41,22 @@ class StillnessDetector {
       : options_(options), ring_(static_cast<std::size_t>(std::max(2, options.capacity))) {}
 
   /// Appends one sample (the caller passes them in time order); the oldest falls off when full.
-  void add(const ImuSample& s) {
-    ring_[(head_ + count_) % ring_.size()] = s;
-    if (count_ == ring_.size()) {
-      head_ = (head_ + 1) % ring_.size();
-    } else {
-      ++count_;
-    }
-  }
+  void add(const ImuSample& s) { ring_.push_back(s); }
 
   /// T over the samples in [min(t_from_ns, t_to_ns - window), t_to_ns]. nullopt when the kept
   /// samples do not reach back to that start (too few yet, or a stretch longer than the ring)
   /// or the sigma is not positive.
   [[nodiscard]] std::optional<double> statistic(std::int64_t t_from_ns,
                                                 std::int64_t t_to_ns) const {
-    if (!(options_.accel_sigma_mps2 > 0.0) || count_ < 2) return std::nullopt;
+    if (!(options_.accel_sigma_mps2 > 0.0) || ring_.size() < 2) return std::nullopt;
     const auto window_ns = static_cast<std::int64_t>(options_.window_s * 1e9);
     const std::int64_t t_start = std::min(t_from_ns, t_to_ns - window_ns);
-    if (at(0).t_ns > t_start) return std::nullopt;
+    if (ring_.front().t_ns > t_start) return std::nullopt;
     Eigen::Vector3d sum_a = Eigen::Vector3d::Zero();
     double sum_aa = 0.0;
     int n = 0;
-    for (std::size_t i = 0; i < count_; ++i) {
-      const ImuSample& s = at(i);
+    for (std::size_t i = 0; i < ring_.size(); ++i) {
+      const ImuSample& s = ring_[i];
       if (s.t_ns < t_start) continue;
       if (s.t_ns > t_to_ns) break;
       const Eigen::Vector3d a(s.accel_mps2[0], s.accel_mps2[1], s.accel_mps2[2]);
@@ -81,14 +74,8 @@ class StillnessDetector {
   }
 
  private:
-  [[nodiscard]] const ImuSample& at(std::size_t i) const {
-    return ring_[(head_ + i) % ring_.size()];
-  }
-
   StillnessOptions options_;
-  std::vector<ImuSample> ring_;
-  std::size_t head_ = 0;
-  std::size_t count_ = 0;
+  HistoryRing<ImuSample> ring_;
 };
 
 }  // namespace vigs::inertial
