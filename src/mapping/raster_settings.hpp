@@ -13,6 +13,9 @@ struct RasterSettings {
   double max_alpha = 0.99;          ///< alpha clamp
   double min_transmittance = 1e-4;  ///< a pixel stops once T would fall to this
   bool use_simd = true;             ///< AVX2 forward kernel when the CPU has it (float only)
+  /// With use_simd: the AVX-512 kernels (8 x 2 pixels per vector) when the CPU has
+  /// AVX-512 F and DQ; false keeps the AVX2 kernels (the benchmarks' baseline).
+  bool use_avx512 = true;
   /// Inside a tile, skip a Gaussian for a row or 8-pixel run it cannot reach (kernel_reach):
   /// the render and gradients are bit-identical either way; false is the benchmarks' baseline.
   bool skip_out_of_reach = true;

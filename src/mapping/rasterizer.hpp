@@ -102,6 +102,8 @@ class Rasterizer {
   /// True when the last forward used the AVX2 kernels (backward uses them under the same
   /// condition: settings().use_simd, float, and a CPU with AVX2 and FMA).
   [[nodiscard]] bool used_simd() const { return used_simd_; }
+  /// Whether the last forward() used the AVX-512 kernels (RasterSettings::use_avx512).
+  [[nodiscard]] bool used_avx512() const { return used_avx512_; }
 
  private:
   void project_all(const GaussianParams<T>& g, const RenderCamera& cam, MapBlocks* blocks);
@@ -139,6 +141,7 @@ class Rasterizer {
   /// per thread: one tile's depth keys, then as many again of the radix sort's scratch
   std::vector<std::vector<std::uint64_t>> sort_keys_;
   bool used_simd_ = false;
+  bool used_avx512_ = false;
   std::size_t culled_blocks_ = 0;
   /// Ranges of Gaussians the last projection kept (a block, or a chunk without blocks) that hold
   /// a visible Gaussian, in map order, with their first visible slot.

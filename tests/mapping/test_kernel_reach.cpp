@@ -57,18 +57,20 @@ TEST(KernelReach, BoundsTheEllipseTheKernelsBlendAndIsTight) {
   EXPECT_TRUE(std::isinf(rx) && std::isinf(ry));  // no bound where the kernels' test has none
 }
 
-void expect_same_with_and_without_skip(bool simd) {
+void expect_same_with_and_without_skip(bool simd, bool avx512 = false) {
   const RenderCamera cam = test::small_camera(200, 150, 160.0);
   // small and elongated Gaussians, faint and opaque: most miss most rows of their tiles
   const GaussianMap g = test::random_gaussians<float>(2500, 11, 0.02, 0.99, -4.5, -1.5);
   RasterSettings with, without;
   with.use_simd = without.use_simd = simd;
+  with.use_avx512 = without.use_avx512 = avx512;
   without.skip_out_of_reach = false;
   Rasterizer<float> ra(with), rb(without);
   RenderResult<float> a, b;
   ra.forward(g, cam, a);
   rb.forward(g, cam, b);
   ASSERT_EQ(ra.used_simd(), simd && avx2_kernel_available());
+  ASSERT_EQ(ra.used_avx512(), simd && avx512 && avx512_kernel_available());
   EXPECT_EQ(a.color, b.color);
   EXPECT_EQ(a.depth, b.depth);
   EXPECT_EQ(a.final_T, b.final_T);
@@ -94,7 +96,31 @@ TEST(KernelReach, ScalarKernelsGiveBitIdenticalRenderAndGradients) {
 
 TEST(KernelReach, Avx2KernelsGiveBitIdenticalRenderAndGradients) {
   if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
-  expect_same_with_and_without_skip(true);
+  expect_same_with_and_without_skip(true, false);
+}
+
+TEST(KernelReach, Avx512KernelsGiveBitIdenticalRenderAndGradients) {
+  if (!avx512_kernel_available()) GTEST_SKIP() << "no AVX-512 kernel on this CPU/architecture";
+  expect_same_with_and_without_skip(true, true);
+}
+
+/// Tile Gaussians around and inside `rect` with random reach; some without a row bound
+/// (infinite reach_y) and some with a NaN row.
+std::vector<TileGaussian<float>> random_tile_gaussians(const TileRect& rect, int count,
+                                                       std::mt19937& rng) {
+  std::uniform_real_distribution<float> pos(-30.0f, 90.0f), reach(0.0f, 12.0f);
+  std::vector<TileGaussian<float>> gs(static_cast<std::size_t>(count));
+  for (int k = 0; k < count; ++k) {
+    TileGaussian<float>& g = gs[static_cast<std::size_t>(k)];
+    g = {};
+    g.x = static_cast<float>(rect.x0) + pos(rng) * static_cast<float>(rect.x1 - rect.x0) / 60;
+    g.y = static_cast<float>(rect.y0) + pos(rng) * static_cast<float>(rect.y1 - rect.y0) / 60;
+    g.reach_x = reach(rng);
+    g.reach_y = reach(rng);
+    if (k % 13 == 5) g.reach_y = std::numeric_limits<float>::infinity();
+    if (k % 17 == 3) g.y = std::numeric_limits<float>::quiet_NaN();
+  }
+  return gs;
 }
 
 // The AVX2 kernels blend each 8-pixel run over a list of the tile's Gaussians that can reach it
@@ -104,21 +130,10 @@ TEST(KernelReach, Avx2KernelsGiveBitIdenticalRenderAndGradients) {
 TEST(KernelReach, Avx2RunListsHoldExactlyTheGaussiansThatReachEachRun) {
   if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
   std::mt19937 rng(7);
-  std::uniform_real_distribution<float> pos(-30.0f, 90.0f), reach(0.0f, 12.0f);
   const TileRect rects[] = {{32, 48, 48, 64}, {704, 464, 713, 469}, {0, 0, 16, 40}, {3, 5, 4, 6}};
   for (const TileRect& rect : rects) {
     for (const int count : {0, 1, 7, 8, 9, 61}) {
-      std::vector<TileGaussian<float>> gs(static_cast<std::size_t>(count));
-      for (int k = 0; k < count; ++k) {
-        TileGaussian<float>& g = gs[static_cast<std::size_t>(k)];
-        g = {};
-        g.x = static_cast<float>(rect.x0) + pos(rng) * static_cast<float>(rect.x1 - rect.x0) / 60;
-        g.y = static_cast<float>(rect.y0) + pos(rng) * static_cast<float>(rect.y1 - rect.y0) / 60;
-        g.reach_x = reach(rng);
-        g.reach_y = reach(rng);
-        if (k % 13 == 5) g.reach_y = std::numeric_limits<float>::infinity();
-        if (k % 17 == 3) g.y = std::numeric_limits<float>::quiet_NaN();
-      }
+      const std::vector<TileGaussian<float>> gs = random_tile_gaussians(rect, count, rng);
       std::vector<int> runs(tile_run_scratch(rect, count), -1);
       fill_tile_runs_avx2(rect, gs.data(), count, runs.data());
       const int n_runs = tile_runs(rect);
@@ -140,6 +155,49 @@ TEST(KernelReach, Avx2RunListsHoldExactlyTheGaussiansThatReachEachRun) {
       if (count > 8 && n_runs >= 8) {
         EXPECT_GT(reached, 0);
         EXPECT_LT(reached, n_runs * count);  // some runs are out of some Gaussians' reach
+      }
+    }
+  }
+}
+
+// The AVX-512 kernels blend each 8 x 2 pixel block over a list of the tile's Gaussians that can
+// reach it (fill_tile_blocks_avx512). Every list must be exactly the Gaussians out_of_reach()
+// keeps for one of the block's rows over its columns, in tile order, for full and edge tiles
+// (odd rows, narrow columns), tiles too tall for the row masks, and Gaussians without a bound.
+TEST(KernelReach, Avx512BlockListsHoldExactlyTheGaussiansThatReachEachBlock) {
+  if (!avx512_kernel_available()) GTEST_SKIP() << "no AVX-512 kernel on this CPU/architecture";
+  std::mt19937 rng(9);
+  const TileRect rects[] = {
+      {32, 48, 48, 64}, {704, 464, 713, 469}, {0, 0, 16, 40}, {3, 5, 4, 6}, {16, 0, 32, 21}};
+  for (const TileRect& rect : rects) {
+    for (const int count : {0, 1, 15, 16, 17, 61}) {
+      const std::vector<TileGaussian<float>> gs = random_tile_gaussians(rect, count, rng);
+      std::vector<int> blocks(tile_block_scratch(rect, count), -1);
+      fill_tile_blocks_avx512(rect, gs.data(), count, blocks.data());
+      const int n_blocks = tile_blocks(rect);
+      int block = 0, reached = 0;
+      for (int y0 = rect.y0; y0 < rect.y1; y0 += 2) {
+        for (int x0 = rect.x0; x0 < rect.x1; x0 += 8, ++block) {
+          const int x1 = std::min(x0 + 8, rect.x1) - 1, y1 = std::min(y0 + 2, rect.y1);
+          std::vector<int> want;
+          for (int k = 0; k < count; ++k) {
+            bool reach_any = false;
+            for (int y = y0; y < y1; ++y)
+              reach_any = reach_any || !out_of_reach(gs[static_cast<std::size_t>(k)], float(x0),
+                                                     float(x1), float(y));
+            if (reach_any) want.push_back(k);
+          }
+          const int* list = blocks.data() + n_blocks + block * count;
+          const std::vector<int> got(list, list + blocks[static_cast<std::size_t>(block)]);
+          ASSERT_EQ(got, want) << "tile " << rect.x0 << "," << rect.y0 << " count " << count
+                               << " block at " << x0 << "," << y0;
+          reached += static_cast<int>(want.size());
+        }
+      }
+      ASSERT_EQ(block, n_blocks);
+      if (count > 16 && n_blocks >= 8) {
+        EXPECT_GT(reached, 0);
+        EXPECT_LT(reached, n_blocks * count);  // some blocks are out of some Gaussians' reach
       }
     }
   }

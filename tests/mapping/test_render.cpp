@@ -235,27 +235,41 @@ TEST(MappingRender, AViewWithTooManyTilePairsIsAClearError) {
   EXPECT_EQ(ras.tile_pairs(), std::size_t{10} * 65536);
 }
 
-TEST(MappingRender, SimdKernelMatchesScalarWithin1e5) {
-  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
+/// The AVX2 kernels (use_avx512 off) or the AVX-512 ones against the scalar kernel.
+void expect_simd_forward_matches_scalar(bool avx512) {
   const RenderCamera cam = test::small_camera(200, 150, 160.0);
   for (unsigned seed : {1u, 2u, 3u}) {
     const GaussianMap g = test::random_gaussians<float>(2000, seed, 0.05, 0.95, -3.5, -1.5);
-    RasterSettings scalar_settings;
+    RasterSettings scalar_settings, simd_settings;
     scalar_settings.use_simd = false;
-    Rasterizer<float> scalar(scalar_settings), simd;
+    simd_settings.use_avx512 = avx512;
+    Rasterizer<float> scalar(scalar_settings), simd(simd_settings);
     RenderResult<float> a, b;
     scalar.forward(g, cam, a);
     simd.forward(g, cam, b);
     ASSERT_TRUE(simd.used_simd());
+    ASSERT_EQ(simd.used_avx512(), avx512);
     ASSERT_FALSE(scalar.used_simd());
     float worst = 0;
     for (std::size_t i = 0; i < a.color.size(); ++i)
       worst = std::max(worst, std::abs(a.color[i] - b.color[i]));
+    for (std::size_t i = 0; i < a.depth.size(); ++i)
+      worst = std::max(worst, std::abs(a.depth[i] - b.depth[i]) / 10.0f);
     for (std::size_t i = 0; i < a.final_T.size(); ++i)
       worst = std::max(worst, std::abs(a.final_T[i] - b.final_T[i]));
     EXPECT_LT(worst, 1e-5f) << "seed " << seed;
     EXPECT_EQ(a.n_contrib, b.n_contrib);
   }
+}
+
+TEST(MappingRender, SimdKernelMatchesScalarWithin1e5) {
+  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
+  expect_simd_forward_matches_scalar(false);
+}
+
+TEST(MappingRender, Avx512KernelMatchesScalarWithin1e5) {
+  if (!avx512_kernel_available()) GTEST_SKIP() << "no AVX-512 kernel on this CPU/architecture";
+  expect_simd_forward_matches_scalar(true);
 }
 
 }  // namespace
@@ -264,17 +278,19 @@ TEST(MappingRender, SimdKernelMatchesScalarWithin1e5) {
 namespace vigs::mapping {
 namespace {
 
-TEST(MappingRender, SimdBackwardMatchesScalarGradients) {
-  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
+void expect_simd_backward_matches_scalar(bool avx512) {
   const RenderCamera cam = test::small_camera(200, 150, 160.0);
   const GaussianMap g = test::random_gaussians<float>(1500, 4, 0.05, 0.95, -3.5, -1.5);
   RasterSettings scalar_settings;
+  RasterSettings simd_settings;
   scalar_settings.use_simd = false;
-  Rasterizer<float> scalar(scalar_settings), simd;
+  simd_settings.use_avx512 = avx512;
+  Rasterizer<float> scalar(scalar_settings), simd(simd_settings);
   RenderResult<float> a, b;
   scalar.forward(g, cam, a);
   simd.forward(g, cam, b);
   ASSERT_EQ(a.n_contrib, b.n_contrib);
+  ASSERT_EQ(simd.used_avx512(), avx512);
   const test::PixelGradients seed(a.depth.size());
   GaussianMap ga, gb;
   scalar.backward(g, cam, a, seed.color.data(), seed.depth.data(), seed.alpha.data(), ga);
@@ -290,6 +306,16 @@ TEST(MappingRender, SimdBackwardMatchesScalarGradients) {
   check(ga.quat_wxyz, gb.quat_wxyz, "quat");
   check(ga.opacity_logit, gb.opacity_logit, "opacity");
   check(ga.color_rgb, gb.color_rgb, "color");
+}
+
+TEST(MappingRender, SimdBackwardMatchesScalarGradients) {
+  if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 kernel on this CPU/architecture";
+  expect_simd_backward_matches_scalar(false);
+}
+
+TEST(MappingRender, Avx512BackwardMatchesScalarGradients) {
+  if (!avx512_kernel_available()) GTEST_SKIP() << "no AVX-512 kernel on this CPU/architecture";
+  expect_simd_backward_matches_scalar(true);
 }
 
 }  // namespace
