@@ -15,6 +15,7 @@
 #include <random>
 
 #include "core/config/robot_config.hpp"
+#include "mapping/half_res_view.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/insertion_gate.hpp"
 #include "mapping/map_optimizer.hpp"
@@ -253,6 +254,42 @@ void BM_OfficeMap(benchmark::State& state) {
   state.counters["gaussians"] = static_cast<double>(s.map.size());
 }
 
+/// The same office view one pyramid level down (360x240, mapping.coarse_iterations: most of the
+/// live mapper's iterations): range(0) 1 forward + backward, 2 a whole iteration; range(1) the
+/// AVX-512 kernels (1) or the AVX2 ones (0).
+void BM_OfficeMapHalfRes(benchmark::State& state) {
+  const OfficeScene& s = office_scene();
+  vigs::rt::WorkerTeam pool(2);
+  mapping::RasterSettings rs;
+  rs.use_avx512 = state.range(1) != 0;
+  mapping::HalfResView half;
+  mapping::make_half_res_view(mapping::RenderCamera::from(s.k, s.T_w_c), s.rgb.data(),
+                              s.depth.data(), half);
+  if (state.range(0) == 2) {
+    config::MappingSettings ms;
+    ms.prune_every = 1000000;
+    mapping::MapOptimizer opt(ms, &pool);
+    opt.rasterizer().settings() = rs;
+    mapping::GaussianMap map = s.map;
+    const mapping::TrainingView view{half.camera, half.rgb.data(), half.depth_m.data()};
+    for (auto _ : state) benchmark::DoNotOptimize(opt.iterate(map, view).total);
+  } else {
+    mapping::Rasterizer<float> ras(rs, &pool);
+    mapping::RenderResult<float> out;
+    ras.forward(s.map, half.camera, out);
+    std::vector<float> vc(out.color.size()), vd(out.depth.size());
+    for (std::size_t i = 0; i < vc.size(); ++i) vc[i] = out.color[i] - half.rgb[i];
+    for (std::size_t i = 0; i < vd.size(); ++i) vd[i] = half.depth_m[i] > 0 ? 0.1f : 0.0f;
+    mapping::GaussianMap grad;
+    for (auto _ : state) {
+      ras.forward(s.map, half.camera, out);
+      ras.backward(s.map, half.camera, out, vc.data(), vd.data(), nullptr, grad);
+      benchmark::DoNotOptimize(out.color.data());
+    }
+  }
+  state.counters["gaussians"] = static_cast<double>(s.map.size());
+}
+
 /// SSIM and its gradient (the loss's) on the office view at 720x480 against a shifted copy,
 /// AVX2 filters (range(0) = 1) against the plain loop (0).
 void BM_Ssim720(benchmark::State& state) {
@@ -297,6 +334,13 @@ BENCHMARK(BM_IterationLargeMap)
 BENCHMARK(BM_OfficeMap)
     ->ArgsProduct({{0, 1, 2}, {1, 0}, {1, 0}})
     ->ArgNames({"pass", "skip", "avx512"})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
+BENCHMARK(BM_OfficeMapHalfRes)
+    ->ArgsProduct({{1, 2}, {1, 0}})
+    ->ArgNames({"pass", "avx512"})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
