@@ -125,13 +125,11 @@ void forward_tile_avx512(const TileRect& rect, const TileGaussian<float>* gs, in
   const int n_blocks = tile_blocks(rect);
   for (int block = 0; block < n_blocks; ++block) {
     const PixelBlock pb = tile_block(rect, block);
-    const int bx = pb.x0, by = pb.y0;
-    const int w = pb.w, h = pb.h;
-    const unsigned row_mask = (1u << w) - 1u;
+    const unsigned row_mask = (1u << pb.w) - 1u;
     // lanes beyond the tile's edge start finished
-    const auto in_block = static_cast<__mmask16>(row_mask | (h == 2 ? row_mask << 8 : 0u));
-    const __m512 px = _mm512_add_ps(_mm512_set1_ps(static_cast<float>(bx)), lane_x);
-    const __m512 py = _mm512_add_ps(_mm512_set1_ps(static_cast<float>(by)), lane_y);
+    const auto in_block = static_cast<__mmask16>(row_mask | (pb.h == 2 ? row_mask << 8 : 0u));
+    const __m512 px = _mm512_add_ps(_mm512_set1_ps(static_cast<float>(pb.x0)), lane_x);
+    const __m512 py = _mm512_add_ps(_mm512_set1_ps(static_cast<float>(pb.y0)), lane_y);
     const int* list = blocks + n_blocks + block * count;
     const int n_list = blocks[block];
     __m512 Tr = one, c0 = zero, c1 = zero, c2 = zero, d = zero, last = zero;
@@ -169,9 +167,9 @@ void forward_tile_avx512(const TileRect& rect, const TileGaussian<float>* gs, in
     _mm512_store_ps(bd, d);
     _mm512_store_ps(bT, Tr);
     _mm512_store_si512(bl, _mm512_cvttps_epi32(last));
-    for (int r = 0; r < h; ++r)
-      for (int l = 0; l < w; ++l) {
-        const int p = (by + r) * out.width + bx + l, i = 8 * r + l;
+    for (int r = 0; r < pb.h; ++r)
+      for (int l = 0; l < pb.w; ++l) {
+        const int p = (pb.y0 + r) * out.width + pb.x0 + l, i = 8 * r + l;
         out.color[3 * p] = bc0[i];
         out.color[3 * p + 1] = bc1[i];
         out.color[3 * p + 2] = bc2[i];

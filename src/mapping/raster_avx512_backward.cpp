@@ -2,9 +2,8 @@
 // a tile (raster_avx512.cpp says why), each pixel traversing its contributors in reverse from
 // its own last one (lane masks). The same math as the AVX2 kernel (raster_avx2_backward.cpp),
 // twice the lanes: per tile Gaussian the 10 gradient sums are 16-lane vectors in `scratch`,
-// reduced once per tile. Gradients agree with
-// the scalar kernel to rounding. Compiled with -mavx512f -mavx512dq -mfma; called only after the
-// run-time check in raster_simd.cpp.
+// reduced once per tile. Gradients agree with the scalar kernel to rounding. Compiled with
+// -mavx512f -mavx512dq -mfma; called only after the run-time check in raster_simd.cpp.
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
 
@@ -43,16 +42,14 @@ void backward_tile_avx512(const TileRect& rect, const TileGaussian<float>* gs, i
   const int n_blocks = tile_blocks(rect);
   for (int block = 0; block < n_blocks; ++block) {
     const PixelBlock pb = tile_block(rect, block);
-    const int bx = pb.x0, by = pb.y0;
-    const int bw = pb.w, bh = pb.h;
     // lanes beyond the edge: T 1, no gradient, and no contributor (last 0)
     alignas(64) float last_f[16] = {}, c0[16] = {}, c1[16] = {}, c2[16] = {}, vd[16] = {},
                       va[16] = {}, tf[16];
     int k_max = 0;
     for (int i = 0; i < 16; ++i) tf[i] = 1.0f;
-    for (int r = 0; r < bh; ++r)
-      for (int l = 0; l < bw; ++l) {
-        const int p = (by + r) * width + bx + l, i = 8 * r + l;
+    for (int r = 0; r < pb.h; ++r)
+      for (int l = 0; l < pb.w; ++l) {
+        const int p = (pb.y0 + r) * width + pb.x0 + l, i = 8 * r + l;
         const int last = n_contrib_img[p];
         k_max = std::max(k_max, last);
         last_f[i] = static_cast<float>(last);
@@ -67,8 +64,8 @@ void backward_tile_avx512(const TileRect& rect, const TileGaussian<float>* gs, i
     const __m512 lastv = _mm512_load_ps(last_f), Tf = _mm512_load_ps(tf);
     const __m512 vc0 = _mm512_load_ps(c0), vc1 = _mm512_load_ps(c1), vc2 = _mm512_load_ps(c2);
     const __m512 vdd = _mm512_load_ps(vd), vaa = _mm512_load_ps(va);
-    const __m512 px = _mm512_add_ps(_mm512_set1_ps(static_cast<float>(bx)), lane_x);
-    const __m512 py = _mm512_add_ps(_mm512_set1_ps(static_cast<float>(by)), lane_y);
+    const __m512 px = _mm512_add_ps(_mm512_set1_ps(static_cast<float>(pb.x0)), lane_x);
+    const __m512 py = _mm512_add_ps(_mm512_set1_ps(static_cast<float>(pb.y0)), lane_y);
     __m512 Tr = Tf, b0 = zero, b1 = zero, b2 = zero, bd = zero;
     // the block's reaching Gaussians below k_max, in reverse
     const int* list = blocks + n_blocks + block * count;

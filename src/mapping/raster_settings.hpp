@@ -12,7 +12,7 @@ struct RasterSettings {
   double min_alpha = 1.0 / 255.0;   ///< contributions below this are skipped
   double max_alpha = 0.99;          ///< alpha clamp
   double min_transmittance = 1e-4;  ///< a pixel stops once T would fall to this
-  bool use_simd = true;             ///< AVX2 forward kernel when the CPU has it (float only)
+  bool use_simd = true;             ///< SIMD blending kernels when the CPU has them (float only)
   /// With use_simd: the AVX-512 kernels (8 x 2 pixels per vector) when the CPU has
   /// AVX-512 F and DQ; false keeps the AVX2 kernels (the benchmarks' baseline).
   bool use_avx512 = true;

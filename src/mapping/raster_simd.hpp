@@ -3,6 +3,7 @@
 // translation units compiled with -mavx512f / -mavx2 -mfma (x86-64 only); everywhere else
 // avx2_kernel_available() and avx512_kernel_available() are false and the portable scalar kernel
 // runs.
+#include <algorithm>
 #include <cstddef>
 
 #include "mapping/tile_kernels.hpp"
@@ -60,7 +61,7 @@ struct PixelBlock {
 inline PixelBlock tile_block(const TileRect& r, int b) {
   const int cols = (r.x1 - r.x0 + 7) / 8;
   const int x0 = r.x0 + 8 * (b % cols), y0 = r.y0 + 2 * (b / cols);
-  return {x0, y0, r.x1 - x0 < 8 ? r.x1 - x0 : 8, r.y1 - y0 < 2 ? r.y1 - y0 : 2};
+  return {x0, y0, std::min(8, r.x1 - x0), std::min(2, r.y1 - y0)};
 }
 
 /// Ints of scratch the AVX-512 kernels need for a tile of `count` Gaussians: per block, the

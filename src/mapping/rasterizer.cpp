@@ -378,6 +378,15 @@ void Rasterizer<T>::gather_tile(int tile, std::vector<TileGaussian<T>>& buf) con
 }
 
 template <class T>
+typename Rasterizer<T>::Kernel Rasterizer<T>::blend_kernel() const {
+  if constexpr (std::is_same_v<T, float>) {
+    if (settings_.use_simd && avx2_kernel_available())
+      return settings_.use_avx512 && avx512_kernel_available() ? Kernel::kAvx512 : Kernel::kAvx2;
+  }
+  return Kernel::kScalar;
+}
+
+template <class T>
 void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
                             RenderResult<T>& out, MapBlocks* blocks) {
   project_all(g, cam, blocks);
@@ -391,13 +400,9 @@ void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
   out.n_contrib.resize(n_px);
   PixelOutputs<T> po{cam.width_px, out.color.data(), out.depth.data(), out.final_T.data(),
                      out.n_contrib.data()};
-  bool simd = false, wide = false;
-  if constexpr (std::is_same_v<T, float>) {
-    simd = settings_.use_simd && avx2_kernel_available();
-    wide = simd && settings_.use_avx512 && avx512_kernel_available();
-  }
-  used_simd_ = simd;
-  used_avx512_ = wide;
+  const Kernel kernel = blend_kernel();
+  used_simd_ = kernel != Kernel::kScalar;
+  used_avx512_ = kernel == Kernel::kAvx512;
   const auto n_tiles = static_cast<std::size_t>(tiles_x_ * tiles_y_);
   // Each tile writes only its own pixels: which member blends it does not change the render.
   run_claimed(n_tiles, [&](int t, std::size_t tile_index) {
@@ -407,13 +412,13 @@ void Rasterizer<T>::forward(const GaussianParams<T>& g, const RenderCamera& cam,
     gather_tile(tile, buf);
     const int count = static_cast<int>(buf.size());
     if constexpr (std::is_same_v<T, float>) {
-      if (wide) {
+      if (kernel == Kernel::kAvx512) {
         auto& block_lists = run_scratch_[static_cast<std::size_t>(t)];
         block_lists.resize(tile_block_scratch(rect, count));
         forward_tile_avx512(rect, buf.data(), count, settings_, po, block_lists.data());
         return;
       }
-      if (simd) {
+      if (kernel == Kernel::kAvx2) {
         auto& runs = run_scratch_[static_cast<std::size_t>(t)];
         runs.resize(tile_run_scratch(rect, count));
         forward_tile_avx2(rect, buf.data(), count, settings_, po, runs.data());
@@ -429,11 +434,7 @@ void Rasterizer<T>::accumulate_gradients(const RenderCamera& cam, const RenderRe
                                          const T* v_color, const T* v_depth, const T* v_alpha) {
   const int n_tiles = tiles_x_ * tiles_y_;
   // Accumulated opacity is 1 - T_final: its gradient enters as dL/dalpha.
-  bool simd = false, wide = false;
-  if constexpr (std::is_same_v<T, float>) {
-    simd = settings_.use_simd && avx2_kernel_available();
-    wide = simd && settings_.use_avx512 && avx512_kernel_available();
-  }
+  const Kernel kernel = blend_kernel();
   // Per-pixel reverse pass, tiles claimed by whichever member is free. A tile's gradients go
   // to its own pairs' entries of pair_grad_, which is laid out per Gaussian (slot_pairs_) and,
   // within a Gaussian, by its tiles in row-major order (slot_tiles_): gaussian_gradient() then
@@ -452,7 +453,7 @@ void Rasterizer<T>::accumulate_gradients(const RenderCamera& cam, const RenderRe
     tg.assign(static_cast<std::size_t>(e - b), TileGrad<T>{});
     bool done = false;
     if constexpr (std::is_same_v<T, float>) {
-      if (wide) {
+      if (kernel == Kernel::kAvx512) {
         auto& scratch = simd_scratch_[static_cast<std::size_t>(t)];
         scratch.resize(tile_grad_scratch_avx512(e - b));
         auto& block_lists = run_scratch_[static_cast<std::size_t>(t)];
@@ -461,7 +462,7 @@ void Rasterizer<T>::accumulate_gradients(const RenderCamera& cam, const RenderRe
                              out.n_contrib.data(), v_color, v_depth, v_alpha, tg.data(),
                              scratch.data(), block_lists.data());
         done = true;
-      } else if (simd) {
+      } else if (kernel == Kernel::kAvx2) {
         auto& scratch = simd_scratch_[static_cast<std::size_t>(t)];
         scratch.resize(static_cast<std::size_t>(e - b) * 80);
         auto& runs = run_scratch_[static_cast<std::size_t>(t)];

@@ -99,13 +99,18 @@ class Rasterizer {
   /// offsets (per visible Gaussian). Not the per-tile offsets nor the per-thread tile scratch
   /// (sized by the fullest tile, not by the map).
   [[nodiscard]] std::size_t cache_bytes() const;
-  /// True when the last forward used the AVX2 kernels (backward uses them under the same
-  /// condition: settings().use_simd, float, and a CPU with AVX2 and FMA).
+  /// True when the last forward used SIMD kernels, AVX2 or AVX-512 (backward uses the same ones:
+  /// blend_kernel()).
   [[nodiscard]] bool used_simd() const { return used_simd_; }
   /// Whether the last forward() used the AVX-512 kernels (RasterSettings::use_avx512).
   [[nodiscard]] bool used_avx512() const { return used_avx512_; }
 
  private:
+  enum class Kernel { kScalar, kAvx2, kAvx512 };
+  /// The blending kernels forward() and backward use: AVX-512 with settings().use_simd and
+  /// use_avx512, float, and a CPU with AVX-512 F + DQ; else AVX2 with use_simd, float, and a CPU
+  /// with AVX2 and FMA; else scalar.
+  [[nodiscard]] Kernel blend_kernel() const;
   void project_all(const GaussianParams<T>& g, const RenderCamera& cam, MapBlocks* blocks);
   void number_units();
   void bin_tiles(const GaussianParams<T>& g, const RenderCamera& cam);

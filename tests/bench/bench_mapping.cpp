@@ -7,7 +7,8 @@
 // simulated office at 720x480 as the live mapper inserts it (keyframes at stride 4, the
 // footprint rule, the insertion gate), rendered from a view between keyframes, with the
 // kernels' out-of-reach skip on and off (the same render, bit for bit), and the AVX-512 kernels
-// (a 16-pixel tile row per vector, when the CPU has them) against the AVX2 ones (8 pixels).
+// (an 8 x 2 pixel block per vector, when the CPU has them) against the AVX2 ones (8 pixels of a
+// row); BM_OfficeMapHalfRes: the same view at half resolution.
 #include <benchmark/benchmark.h>
 
 #include <map>
