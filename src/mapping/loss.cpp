@@ -7,66 +7,102 @@ namespace vigs::mapping {
 
 template <class T>
 PhotometricLoss<T>::PhotometricLoss(LossSettings s, rt::WorkerTeam* pool, bool color_without_depth)
-    : s_(s), color_without_depth_(color_without_depth), ssim_(SsimOptions{}, pool) {}
+    : s_(s), color_without_depth_(color_without_depth), pool_(pool), ssim_(SsimOptions{}, pool) {}
 
+template <class T>
+void PhotometricLoss<T>::for_row_blocks(int height,
+                                        const std::function<void(std::size_t, int, int)>& fn) {
+  const auto blocks = static_cast<std::size_t>((height + kRowsPerBlock - 1) / kRowsPerBlock);
+  const auto body = [&](int, std::size_t b) {
+    const int r0 = static_cast<int>(b) * kRowsPerBlock;
+    fn(b, r0, std::min(height, r0 + kRowsPerBlock));
+  };
+  if (pool_) {
+    pool_->run_claimed(blocks, body);
+  } else {
+    for (std::size_t b = 0; b < blocks; ++b) body(0, b);
+  }
+}
+
+// The per-pixel passes run over blocks of rows on the pool (they were the mapper's longest serial
+// stretch); the sums are kept per block and added in block order, so the result does not depend
+// on which thread took which block, and the gradients (per pixel, with integer counts) are the
+// same bits as one pass gives.
 template <class T>
 LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* target_rgb,
                                           const T* target_depth_m, T* v_color, T* v_depth) {
-  const std::size_t np = static_cast<std::size_t>(r.width) * r.height;
+  const std::size_t w = static_cast<std::size_t>(r.width);
+  const std::size_t np = w * static_cast<std::size_t>(r.height);
   const T lam = T(s_.lambda_ssim), lam_d = T(s_.lambda_depth);
   const T* mask = nullptr;
   const T* ssim_mask = nullptr;
   std::size_t n_mask = np;
+  blocks_.assign(static_cast<std::size_t>((r.height + kRowsPerBlock - 1) / kRowsPerBlock),
+                 BlockSums{});
   if (target_depth_m) {
     mask_.resize(np);
+    for_row_blocks(r.height, [&](std::size_t b, int r0, int r1) {
+      std::size_t n = 0;
+      bool moving = false;
+      for (std::size_t i = static_cast<std::size_t>(r0) * w; i < static_cast<std::size_t>(r1) * w;
+           ++i) {
+        // depth < 0: a moving object (a person) stood there; neither colour nor depth is a target
+        const T d = target_depth_m[i];
+        moving = moving || d < T(0);
+        mask_[i] = d > T(0) || (color_without_depth_ && !(d < T(0))) ? T(1) : T(0);
+        n += mask_[i] > T(0) ? 1 : 0;
+      }
+      blocks_[b].n_mask = n;
+      blocks_[b].moving = moving;
+    });
     n_mask = 0;
     bool moving = false;
-    for (std::size_t i = 0; i < np; ++i) {
-      // depth < 0: a moving object (a person) stood there; neither colour nor depth is a target
-      const T d = target_depth_m[i];
-      moving = moving || d < T(0);
-      mask_[i] = d > T(0) || (color_without_depth_ && !(d < T(0))) ? T(1) : T(0);
-      n_mask += mask_[i] > T(0) ? 1 : 0;
+    for (const BlockSums& b : blocks_) {
+      n_mask += b.n_mask;
+      moving = moving || b.moving;
     }
     mask = mask_.data();
     ssim_mask = moving ? without_moving_windows(target_depth_m, r.width, r.height) : mask;
   }
-  LossTerms<T> out;
-  // L1 colour
-  double l1 = 0;
   const T inv_c = n_mask ? T(1) / (T(3) * T(n_mask)) : T(0);
-  for (std::size_t i = 0; i < np; ++i) {
-    const bool on = !mask || mask[i] > T(0);
-    for (int c = 0; c < 3; ++c) {
-      const T d = r.color[3 * i + c] - target_rgb[3 * i + c];
-      if (on) l1 += static_cast<double>(std::abs(d));
-      if (v_color) {
-        const T sgn = d > T(0) ? T(1) : (d < T(0) ? T(-1) : T(0));
-        v_color[3 * i + c] = on ? (T(1) - lam) * inv_c * sgn : T(0);
+  const bool depth_term = target_depth_m && lam_d > T(0) && n_mask > 0;
+  const T inv_d = n_mask ? T(1) / T(n_mask) : T(0);
+  // L1 colour and L1 depth with their gradients
+  for_row_blocks(r.height, [&](std::size_t b, int r0, int r1) {
+    double l1 = 0, l1d = 0;
+    for (std::size_t i = static_cast<std::size_t>(r0) * w; i < static_cast<std::size_t>(r1) * w;
+         ++i) {
+      const bool on = !mask || mask[i] > T(0);
+      for (int c = 0; c < 3; ++c) {
+        const T d = r.color[3 * i + c] - target_rgb[3 * i + c];
+        if (on) l1 += static_cast<double>(std::abs(d));
+        if (v_color) {
+          const T sgn = d > T(0) ? T(1) : (d < T(0) ? T(-1) : T(0));
+          v_color[3 * i + c] = on ? (T(1) - lam) * inv_c * sgn : T(0);
+        }
       }
-    }
-  }
-  out.l1_color = T(l1) * inv_c;
-  // SSIM
-  if (v_color) ssim_grad_.resize(3 * np);
-  out.ssim = ssim_.evaluate(r.color.data(), target_rgb, r.width, r.height, 3, ssim_mask,
-                            v_color ? ssim_grad_.data() : nullptr);
-  if (v_color)
-    for (std::size_t i = 0; i < 3 * np; ++i) v_color[i] -= lam * ssim_grad_[i];
-  // L1 depth
-  if (v_depth)
-    for (std::size_t i = 0; i < np; ++i) v_depth[i] = T(0);
-  if (target_depth_m && lam_d > T(0) && n_mask > 0) {
-    double l1d = 0;
-    const T inv_d = T(1) / T(n_mask);
-    for (std::size_t i = 0; i < np; ++i) {
-      if (!(target_depth_m[i] > T(0))) continue;
+      if (v_depth) v_depth[i] = T(0);
+      if (!depth_term || !(target_depth_m[i] > T(0))) continue;
       const T d = r.depth[i] - target_depth_m[i];
       l1d += static_cast<double>(std::abs(d));
       if (v_depth) v_depth[i] = lam_d * inv_d * (d > T(0) ? T(1) : (d < T(0) ? T(-1) : T(0)));
     }
-    out.l1_depth_m = T(l1d) * inv_d;
+    blocks_[b].l1_color = l1;
+    blocks_[b].l1_depth = l1d;
+  });
+  double l1 = 0, l1d = 0;
+  for (const BlockSums& b : blocks_) {
+    l1 += b.l1_color;
+    l1d += b.l1_depth;
   }
+  LossTerms<T> out;
+  out.l1_color = T(l1) * inv_c;
+  if (depth_term) out.l1_depth_m = T(l1d) * inv_d;
+  // SSIM, its gradient added to the colour gradient in the same pass that computes it
+  out.ssim = v_color ? ssim_.evaluate_add_gradient(r.color.data(), target_rgb, r.width, r.height, 3,
+                                                   ssim_mask, v_color, -lam)
+                     : ssim_.evaluate(r.color.data(), target_rgb, r.width, r.height, 3, ssim_mask,
+                                      nullptr);
   out.total = (T(1) - lam) * out.l1_color + lam * (T(1) - out.ssim) + lam_d * out.l1_depth_m;
   return out;
 }

@@ -7,6 +7,8 @@
 // pixel (its gradient would reach the pixel);
 // SSIM uses the 11x11 Gaussian window (sigma 1.5) over valid windows, with its analytic
 // gradient.
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "core/config/mapping_components.hpp"
@@ -44,11 +46,22 @@ class PhotometricLoss {
  private:
   /// mask_ without the SSIM windows that hold a moving pixel (ssim_mask_).
   const T* without_moving_windows(const T* target_depth_m, int width, int height);
+  static constexpr int kRowsPerBlock = 16;
+  /// fn(block, first row, end row) for every block of kRowsPerBlock rows, on the pool if any.
+  void for_row_blocks(int height, const std::function<void(std::size_t, int, int)>& fn);
+  /// One block of rows' share of the masks and sums.
+  struct BlockSums {
+    std::size_t n_mask = 0;
+    bool moving = false;
+    double l1_color = 0, l1_depth = 0;
+  };
 
   LossSettings s_;
   bool color_without_depth_;
+  rt::WorkerTeam* pool_;
   Ssim<T> ssim_;
-  std::vector<T> mask_, ssim_mask_, ssim_grad_;
+  std::vector<T> mask_, ssim_mask_;
+  std::vector<BlockSums> blocks_;
   std::vector<unsigned char> near_moving_;
 };
 

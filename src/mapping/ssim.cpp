@@ -18,10 +18,11 @@ constexpr int kMaxTaps = 11;
 /// o[i] = sum_k w[k] * rows[k][i]: every filter pass below is made of these (AVX2 for floats
 /// where available).
 template <class T>
-inline void filter_row(T* o, const T* const* rows, const T* w, int n_rows, int n, bool simd) {
+inline void filter_row(T* o, const T* const* rows, const T* w, int n_rows, int n, bool simd,
+                       bool avx512) {
   if constexpr (std::is_same_v<T, float>) {
     if (simd) {
-      weighted_rows(o, rows, w, n_rows, n);
+      weighted_rows(o, rows, w, n_rows, n, avx512);
       return;
     }
   }
@@ -83,6 +84,18 @@ void Ssim<T>::for_rows(int rows, const std::function<void(int, int, int, int)>& 
 template <class T>
 T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask,
                     T* grad_x) {
+  return run(x, y, width, height, channels, mask, grad_x, false, T(1));
+}
+
+template <class T>
+T Ssim<T>::evaluate_add_gradient(const T* x, const T* y, int width, int height, int channels,
+                                 const T* mask, T* grad, T weight) {
+  return run(x, y, width, height, channels, mask, grad, true, weight);
+}
+
+template <class T>
+T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, const T* mask,
+               T* grad_x, bool add, T weight) {
   const int K = static_cast<int>(win_.size());
   if (width < K || height < K) throw std::invalid_argument("SSIM: image smaller than the window");
   const int wv = width - K + 1, hv = height - K + 1, half = K / 2;
@@ -98,12 +111,25 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
            mask[static_cast<std::size_t>(yy + half) * w + static_cast<std::size_t>(xx + half)] >
                T(0);
   };
-  std::size_t n_valid = 0;
-  for (int yy = 0; yy < hv; ++yy)
-    for (int xx = 0; xx < wv; ++xx) n_valid += centre_on(yy, xx) ? 1 : 0;
-  if (grad_x)
-    for (std::size_t i = 0; i < np * static_cast<std::size_t>(channels); ++i) grad_x[i] = 0;
-  if (n_valid == 0) return T(1);
+  // windows whose centre is on, counted per block of rows in parallel (an integer: the same
+  // whatever the blocks)
+  std::size_t n_valid = nv;
+  if (mask) {
+    valid_.assign(static_cast<std::size_t>(row_blocks(hv)), 0);
+    for_rows(hv, [&](int, int block, int r0, int r1) {
+      std::size_t n = 0;
+      for (int yy = r0; yy < r1; ++yy)
+        for (int xx = 0; xx < wv; ++xx) n += centre_on(yy, xx) ? 1 : 0;
+      valid_[static_cast<std::size_t>(block)] = n;
+    });
+    n_valid = 0;
+    for (const std::size_t n : valid_) n_valid += n;
+  }
+  if (n_valid == 0) {
+    // no window: SSIM 1, no gradient (the passes below write every pixel's otherwise)
+    if (grad_x && !add) std::fill(grad_x, grad_x + np * static_cast<std::size_t>(channels), T(0));
+    return T(1);
+  }
   const T inv_n = T(1) / (T(n_valid) * T(channels));
   const SsimRowTerms<T> terms{C1, C2, cn, inv_n};
   const int nt = pool_ ? pool_->size() : 1;
@@ -116,7 +142,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
   const auto n_blocks = static_cast<std::size_t>(row_blocks(hv));
   partial_.assign(n_blocks * static_cast<std::size_t>(channels), 0.0);
   const T* win = win_.data();
-  const bool simd = opt_.use_simd;
+  const bool simd = opt_.use_simd, avx512 = opt_.use_avx512;
   const std::size_t cs = static_cast<std::size_t>(channels);
   for (int c = 0; c < channels; ++c) {
     // horizontal pass of x, y, xx, yy, xy: deinterleave a row into 5 planes, then filter each
@@ -140,7 +166,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
           const T* src = rowbuf + static_cast<std::size_t>(m) * w;
           const T* taps[kMaxTaps];
           for (int k = 0; k < K; ++k) taps[k] = src + k;
-          filter_row(o, taps, win, K, wv, simd);
+          filter_row(o, taps, win, K, wv, simd, avx512);
         }
       }
     });
@@ -155,7 +181,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
           const T* taps[kMaxTaps];
           for (int k = 0; k < K; ++k)
             taps[k] = src + static_cast<std::size_t>(r + k) * static_cast<std::size_t>(wv);
-          filter_row(o, taps, win, K, wv, simd);
+          filter_row(o, taps, win, K, wv, simd, avx512);
         }
         const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
         const T* const moments[5] = {maps_.data() + row, maps_.data() + nv + row,
@@ -189,7 +215,7 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
           for (int k = k0; k <= k1; ++k)
             taps[k - k0] = g_.data() + static_cast<std::size_t>(m) * nv +
                            static_cast<std::size_t>(r - k) * static_cast<std::size_t>(wv);
-          filter_row(o, taps, win + k0, k1 - k0 + 1, wv, simd);
+          filter_row(o, taps, win + k0, k1 - k0 + 1, wv, simd, avx512);
         }
         // horizontal transpose: back[q] = sum_k win[k] src[q - k] over 0 <= q - k < wv
         T* back = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
@@ -199,12 +225,17 @@ T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels,
           std::copy(src, src + wv, pad + edge);
           const T* taps[kMaxTaps];
           for (int k = 0; k < K; ++k) taps[k] = pad + edge - static_cast<std::size_t>(k);
-          filter_row(back + static_cast<std::size_t>(m) * w, taps, win, K, width, simd);
+          filter_row(back + static_cast<std::size_t>(m) * w, taps, win, K, width, simd, avx512);
         }
         for (std::size_t q = 0; q < w; ++q) {
           const std::size_t i =
               (static_cast<std::size_t>(r) * w + q) * cs + static_cast<std::size_t>(c);
-          grad_x[i] = back[q] + T(2) * x[i] * back[w + q] + y[i] * back[2 * w + q];
+          const T d = back[q] + T(2) * x[i] * back[w + q] + y[i] * back[2 * w + q];
+          if (add) {
+            grad_x[i] += weight * d;
+          } else {
+            grad_x[i] = d;
+          }
         }
       }
     });

@@ -4,6 +4,7 @@
 // published conventions the same computation: scikit-image's 7x7 uniform window with a 3-pixel
 // crop (sample covariance), its 11x11 Gaussian with a 5-pixel crop (population covariance) and
 // pytorch-msssim's valid 11x11 Gaussian (sigma 1.5).
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -21,7 +22,8 @@ struct SsimOptions {
   SsimWindow window = SsimWindow::kGaussian11;
   bool sample_covariance = false;  ///< N/(N-1) correction (scikit-image's default)
   double data_range = 1.0;         ///< L: 1 for [0, 1] images, 255 for 8-bit values
-  bool use_simd = true;  ///< floats: AVX2 filters where the CPU has them (simd_weighted_rows.hpp)
+  bool use_simd = true;    ///< floats: AVX2 filters where the CPU has them (simd_weighted_rows.hpp)
+  bool use_avx512 = true;  ///< with use_simd: AVX-512 filters where the CPU has them (same bits)
 };
 
 /// The normalised 1D window (11 taps, sigma 1.5; or 7 uniform taps).
@@ -40,6 +42,11 @@ class Ssim {
   /// Returns mean SSIM; when grad_x is not null it receives d(mean SSIM)/dx (w*h*channels).
   T evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask, T* grad_x);
 
+  /// As evaluate(), but adds weight * d(mean SSIM)/dx to grad (w*h*channels, not null): a loss
+  /// folds its SSIM term into the colour gradient it holds without a second image-sized pass.
+  T evaluate_add_gradient(const T* x, const T* y, int width, int height, int channels,
+                          const T* mask, T* grad, T weight);
+
  private:
   static constexpr int kRowsPerBlock = 16;
   [[nodiscard]] static int row_blocks(int rows) {
@@ -47,12 +54,16 @@ class Ssim {
   }
   /// fn(member, block, first row, end row) for every block of kRowsPerBlock rows of [0, rows).
   void for_rows(int rows, const std::function<void(int, int, int, int)>& fn);
+  /// evaluate() and evaluate_add_gradient(): grad_x[i] = dS/dx, or += weight * dS/dx with add.
+  T run(const T* x, const T* y, int width, int height, int channels, const T* mask, T* grad_x,
+        bool add, T weight);
 
   SsimOptions opt_;
   rt::WorkerTeam* pool_;
   std::vector<T> win_;
   std::vector<T> tmp_, maps_, g_, rows_, pad_;
-  std::vector<double> partial_;  ///< per row block and channel, summed in block order
+  std::vector<double> partial_;     ///< per row block and channel, summed in block order
+  std::vector<std::size_t> valid_;  ///< windows on per row block
 };
 
 extern template class Ssim<float>;

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,6 +12,7 @@
 #include "io/image_io.hpp"
 #include "mapping/image_metrics.hpp"
 #include "mapping/raster_simd.hpp"
+#include "mapping/simd_weighted_rows.hpp"
 #include "mapping/ssim.hpp"
 #include "rt/worker_team.hpp"
 
@@ -92,6 +95,87 @@ TEST(MappingSsim, Avx2KernelsMatchThePlainLoopsInFloat) {
       EXPECT_LT(worst, 1e-4f * scale) << (m ? "masked" : "whole");
     }
   }
+}
+
+// The AVX-512 row filters give the AVX2 ones' bits (both sum each output's taps in order with one
+// fused multiply-add per tap): every row length up to 200 (all of both versions' tails), whole
+// and truncated windows, rows at unaligned offsets; nothing is written past the row. Then the
+// whole SSIM, value and gradient, with either.
+TEST(MappingSsim, Avx512FiltersGiveTheAvx2Bits) {
+  if (!avx512_kernel_available()) GTEST_SKIP() << "no AVX-512 on this CPU/architecture";
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f), weight(0.01f, 0.3f);
+  std::vector<std::vector<float>> rows(11, std::vector<float>(220));
+  for (auto& r : rows)
+    for (float& v : r) v = value(rng);
+  float w[11];
+  for (float& v : w) v = weight(rng);
+  constexpr float kSentinel = 7.0f;
+  for (int n = 1; n <= 200; ++n) {
+    for (const int n_rows : {1, 6, 11}) {
+      const float* taps[11];
+      for (int k = 0; k < 11; ++k) taps[k] = rows[static_cast<std::size_t>(k)].data() + k % 3;
+      std::vector<float> o512(static_cast<std::size_t>(n) + 16, kSentinel), o2 = o512, plain = o512;
+      weighted_rows_avx512(o512.data(), taps, w, n_rows, n);
+      weighted_rows_avx2(o2.data(), taps, w, n_rows, n);
+      weighted_rows_plain(plain.data(), taps, w, n_rows, n);
+      ASSERT_EQ(o512, o2) << n << " outputs, " << n_rows << " taps";
+      for (int i = 0; i < n; ++i)
+        ASSERT_NEAR(o512[static_cast<std::size_t>(i)], plain[static_cast<std::size_t>(i)], 1e-5f);
+    }
+  }
+  const auto a = io::read_image_u8(kImages + "kodim10.png");
+  const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
+  std::vector<float> x(a.data.size()), y(b.data.size());
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.data[i] / 255.0f;
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = b.data[i] / 255.0f;
+  SsimOptions avx2_options;
+  avx2_options.use_avx512 = false;
+  Ssim<float> wide, narrow(avx2_options);
+  std::vector<float> gw(x.size()), gn(x.size());
+  const float vw = wide.evaluate(x.data(), y.data(), a.width, a.height, 3, nullptr, gw.data());
+  const float vn = narrow.evaluate(x.data(), y.data(), a.width, a.height, 3, nullptr, gn.data());
+  EXPECT_EQ(vw, vn);
+  EXPECT_EQ(gw, gn);
+}
+
+// evaluate() writes every pixel's gradient (a stale buffer is overwritten, no zeroing pass), and
+// evaluate_add_gradient() adds weight times that gradient to what the buffer holds, to the bit.
+// With no window on, SSIM is 1, evaluate() writes zeros and the sum is left as it was.
+TEST(MappingSsim, GradientAddedInPlaceIsTheWeightedGradient) {
+  const auto a = io::read_image_u8(kImages + "kodim10.png");
+  const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
+  std::vector<float> x(a.data.size()), y(b.data.size());
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.data[i] / 255.0f;
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = b.data[i] / 255.0f;
+  std::vector<float> mask(static_cast<std::size_t>(a.width) * a.height);
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = (i / 37) % 4 == 0 ? 0.0f : 1.0f;
+  const float kNan = std::numeric_limits<float>::quiet_NaN();
+  Ssim<float> ssim;
+  std::vector<float> fresh(x.size(), 0.0f), stale(x.size(), kNan);
+  const float v =
+      ssim.evaluate(x.data(), y.data(), a.width, a.height, 3, mask.data(), fresh.data());
+  EXPECT_EQ(ssim.evaluate(x.data(), y.data(), a.width, a.height, 3, mask.data(), stale.data()), v);
+  EXPECT_EQ(stale, fresh);
+  std::vector<float> sum(x.size());
+  for (std::size_t i = 0; i < sum.size(); ++i) sum[i] = 0.001f * static_cast<float>(i % 97);
+  const std::vector<float> before = sum;
+  const float weight = -0.2f;
+  EXPECT_EQ(ssim.evaluate_add_gradient(x.data(), y.data(), a.width, a.height, 3, mask.data(),
+                                       sum.data(), weight),
+            v);
+  for (std::size_t i = 0; i < sum.size(); ++i)
+    ASSERT_EQ(sum[i], before[i] + weight * fresh[i]) << "element " << i;
+  const std::vector<float> off(mask.size(), 0.0f);
+  std::fill(stale.begin(), stale.end(), kNan);
+  EXPECT_EQ(ssim.evaluate(x.data(), y.data(), a.width, a.height, 3, off.data(), stale.data()),
+            1.0f);
+  for (const float g : stale) ASSERT_EQ(g, 0.0f);
+  std::vector<float> kept = before;
+  EXPECT_EQ(ssim.evaluate_add_gradient(x.data(), y.data(), a.width, a.height, 3, off.data(),
+                                       kept.data(), weight),
+            1.0f);
+  EXPECT_EQ(kept, before);
 }
 
 // Rows go in blocks to whichever thread is free and the mean is summed per block in block order:
