@@ -42,6 +42,9 @@ class PhotometricLoss {
                         T* v_color, T* v_depth);
 
   [[nodiscard]] const LossSettings& settings() const { return s_; }
+  /// SSIM's filters in AVX-512 where the CPU has them (the default) or AVX2 (a baseline for
+  /// benchmarks: the same bits).
+  void use_avx512(bool on) { ssim_.use_avx512(on); }
 
  private:
   /// mask_ without the SSIM windows that hold a moving pixel (ssim_mask_).

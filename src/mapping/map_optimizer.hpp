@@ -66,6 +66,7 @@ class MapOptimizer {
   [[nodiscard]] std::size_t view_bytes() const;
 
   Rasterizer<float>& rasterizer() { return raster_; }
+  PhotometricLoss<float>& loss() { return loss_; }
   /// Block bounds of the map this optimiser trains (map_blocks.hpp), kept true by iterate(),
   /// prune() and remove(); pass them to other forward passes over the same map. Null when
   /// block culling is off.

@@ -30,9 +30,9 @@ void weighted_rows_avx512(float* o, const float* const* rows, const float* w, in
   }
   // the rest 16 at a time, the last vector masked (nothing read or written past n)
   for (; i < n; i += 16) {
-    const __mmask16 live =
-        n - i >= 16 ? __mmask16(0xffff)
-                    : static_cast<__mmask16>((1u << static_cast<unsigned>(n - i)) - 1u);
+    const __mmask16 live = n - i >= 16
+                               ? __mmask16(0xffff)
+                               : static_cast<__mmask16>((1u << static_cast<unsigned>(n - i)) - 1u);
     __m512 a = _mm512_setzero_ps();
     for (int k = 0; k < n_rows; ++k)
       a = _mm512_fmadd_ps(_mm512_set1_ps(w[k]), _mm512_maskz_loadu_ps(live, rows[k] + i), a);

@@ -47,6 +47,9 @@ class Ssim {
   T evaluate_add_gradient(const T* x, const T* y, int width, int height, int channels,
                           const T* mask, T* grad, T weight);
 
+  /// SsimOptions::use_avx512 after construction.
+  void use_avx512(bool on) { opt_.use_avx512 = on; }
+
  private:
   static constexpr int kRowsPerBlock = 16;
   [[nodiscard]] static int row_blocks(int rows) {

@@ -8,7 +8,8 @@
 // footprint rule, the insertion gate), rendered from a view between keyframes, with the
 // kernels' out-of-reach skip on and off (the same render, bit for bit), and the AVX-512 kernels
 // (an 8 x 2 pixel block per vector, when the CPU has them) against the AVX2 ones (8 pixels of a
-// row); BM_OfficeMapHalfRes: the same view at half resolution.
+// row); BM_OfficeMapHalfRes: the same view at half resolution. BM_Ssim720 and BM_Loss720: SSIM
+// and the whole loss at 720x480, AVX-512 filters against AVX2, the team against one thread.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -19,6 +20,7 @@
 #include "mapping/half_res_view.hpp"
 #include "mapping/insertion.hpp"
 #include "mapping/insertion_gate.hpp"
+#include "mapping/loss.hpp"
 #include "mapping/map_optimizer.hpp"
 #include "mapping/rgbd_keyframe.hpp"
 #include "mapping/ssim.hpp"
@@ -233,6 +235,7 @@ void BM_OfficeMap(benchmark::State& state) {
     ms.prune_every = 1000000;
     mapping::MapOptimizer opt(ms, &pool);
     opt.rasterizer().settings() = rs;
+    opt.loss().use_avx512(rs.use_avx512);  // SSIM's filters follow the kernels' width
     mapping::GaussianMap map = s.map;
     const mapping::TrainingView view{cam, s.rgb.data(), s.depth.data()};
     for (auto _ : state) benchmark::DoNotOptimize(opt.iterate(map, view).total);
@@ -271,6 +274,7 @@ void BM_OfficeMapHalfRes(benchmark::State& state) {
     ms.prune_every = 1000000;
     mapping::MapOptimizer opt(ms, &pool);
     opt.rasterizer().settings() = rs;
+    opt.loss().use_avx512(rs.use_avx512);
     mapping::GaussianMap map = s.map;
     const mapping::TrainingView view{half.camera, half.rgb.data(), half.depth_m.data()};
     for (auto _ : state) benchmark::DoNotOptimize(opt.iterate(map, view).total);
@@ -291,19 +295,44 @@ void BM_OfficeMapHalfRes(benchmark::State& state) {
   state.counters["gaussians"] = static_cast<double>(s.map.size());
 }
 
-/// SSIM and its gradient (the loss's) on the office view at 720x480 against a shifted copy,
-/// AVX2 filters (range(0) = 1) against the plain loop (0).
+/// SSIM and its gradient (the loss's) on the office view at 720x480 against a shifted copy:
+/// range(0) the row filters in AVX-512 (2), AVX2 (1) or the plain loop (0).
 void BM_Ssim720(benchmark::State& state) {
   const OfficeScene& s = office_scene();
   vigs::rt::WorkerTeam pool(2);
   mapping::SsimOptions o;
   o.use_simd = state.range(0) != 0;
+  o.use_avx512 = state.range(0) == 2;
   mapping::Ssim<float> ssim(o, &pool);
   std::vector<float> x(s.rgb.size()), grad(s.rgb.size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = s.rgb[(i + 3 * 721) % x.size()];
   for (auto _ : state)
     benchmark::DoNotOptimize(ssim.evaluate(x.data(), s.rgb.data(), s.k.width_px, s.k.height_px, 3,
                                            nullptr, grad.data()));
+}
+
+/// The whole training loss with its gradients (masks, L1 colour and depth, SSIM) on the office
+/// view at 720x480 against a shifted render: range(0) threads (1: every pass on the caller, the
+/// baseline; 2: the mapper's team), range(1) SSIM's filters in AVX-512 (1) or AVX2 (0).
+void BM_Loss720(benchmark::State& state) {
+  const OfficeScene& s = office_scene();
+  std::unique_ptr<vigs::rt::WorkerTeam> pool;
+  if (state.range(0) > 1) pool = std::make_unique<vigs::rt::WorkerTeam>(2);
+  mapping::PhotometricLoss<float> loss(mapping::LossSettings{}, pool.get(), true);
+  loss.use_avx512(state.range(1) != 0);
+  mapping::RenderResult<float> r;
+  r.width = s.k.width_px;
+  r.height = s.k.height_px;
+  r.color.resize(s.rgb.size());
+  for (std::size_t i = 0; i < r.color.size(); ++i)
+    r.color[i] = s.rgb[(i + 3 * 721) % r.color.size()];
+  r.depth.resize(s.depth.size());
+  for (std::size_t i = 0; i < r.depth.size(); ++i)
+    r.depth[i] = 1.02f * s.depth[(i + 721) % r.depth.size()];
+  std::vector<float> vc(r.color.size()), vd(r.depth.size());
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        loss.evaluate(r, s.rgb.data(), s.depth.data(), vc.data(), vd.data()).total);
 }
 
 void args(benchmark::internal::Benchmark* b) {
@@ -348,8 +377,15 @@ BENCHMARK(BM_OfficeMapHalfRes)
 
 BENCHMARK(BM_Ssim720)
     ->ArgName("simd")
+    ->Arg(2)
     ->Arg(1)
     ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK(BM_Loss720)
+    ->ArgsProduct({{2, 1}, {1, 0}})
+    ->ArgNames({"threads", "avx512"})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
