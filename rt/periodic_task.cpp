@@ -19,6 +19,11 @@ PeriodicTask::PeriodicTask(const ThreadSpec& spec, Body body)
   if (!body_) throw std::invalid_argument("PeriodicTask needs a body");
 }
 
+void PeriodicTask::set_overrun(Overrun policy) {
+  if (thread_) throw std::logic_error("PeriodicTask::set_overrun() after start()");
+  overrun_ = policy;
+}
+
 void PeriodicTask::start() {
   if (thread_) throw std::logic_error("PeriodicTask::start() called twice");
   thread_.emplace(spec_, [this](std::stop_token stop) { run(std::move(stop)); });
@@ -73,12 +78,16 @@ void PeriodicTask::run(std::stop_token stop) noexcept {
       pending_shift_ns_ = 0;
     }
     if (end > deadline) {
-      // Finished after the next deadline: skip to the first deadline still in the future.
-      const std::int64_t skipped = (end - deadline) / period + 1;
       if (overruns_.get() < kOverrunTimes) overrun_end_ns_[overruns_.get()] = end;
       overruns_.add();
-      missed_deadlines_.add(static_cast<std::uint64_t>(skipped));
-      deadline += skipped * period;
+      if (overrun_ == Overrun::kRunAtOnce) {
+        deadline = end;  // the next cycle now, the grid from here
+      } else {
+        // Finished after the next deadline: skip to the first deadline still in the future.
+        const std::int64_t skipped = (end - deadline) / period + 1;
+        missed_deadlines_.add(static_cast<std::uint64_t>(skipped));
+        deadline += skipped * period;
+      }
     }
   }
 }

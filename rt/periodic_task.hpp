@@ -3,10 +3,14 @@
 // Deadlines are absolute CLOCK_MONOTONIC times, deadline_k = start + k * period, slept to with
 // clock_nanosleep(TIMER_ABSTIME), so the rate does not drift with the body's run time or with
 // wake-up latency. The first cycle runs one period after start().
-// Overrun policy: a cycle that finishes after its next deadline is an overrun. The task does not
-// try to catch up with back-to-back cycles; it skips to the next deadline still in the future and
-// counts every deadline it skipped (missed_deadlines). So cycles() + missed_deadlines() tracks
-// elapsed / period however loaded the machine is, and the schedule stays on the original grid.
+// Overrun policy: a cycle that finishes after its next deadline is an overrun. By default
+// (Overrun::kSkip) the task does not try to catch up with back-to-back cycles; it skips to the
+// next deadline still in the future and counts every deadline it skipped (missed_deadlines). So
+// cycles() + missed_deadlines() tracks elapsed / period however loaded the machine is, and the
+// schedule stays on the original grid. Overrun::kRunAtOnce instead starts the next cycle as soon
+// as the late one ends and moves the grid there: for a best-effort task whose period only paces
+// it while it has nothing to do (the mapper), waiting for the grid would idle it for half a
+// period on average after every long cycle.
 // Every cycle records the wake-up jitter (actual wake - deadline) and the cycle time (body run
 // time, wake to end) in histograms. The loop itself allocates nothing, takes no lock and logs
 // nothing; the body decides what it does.
@@ -41,6 +45,10 @@ class PeriodicTask {
     std::uint64_t index;       // 0, 1, 2, ... (cycles actually run)
   };
   using Body = std::function<void(const Cycle&)>;
+  enum class Overrun {
+    kSkip,       // wait for the first deadline still in the future (the grid stays)
+    kRunAtOnce,  // start the next cycle at once; the grid restarts from the late cycle's end
+  };
 
   // spec.period_ns must be > 0 (std::invalid_argument otherwise). The body is stored once here;
   // std::function never allocates when it is called.
@@ -55,6 +63,9 @@ class PeriodicTask {
   PeriodicTask(const PeriodicTask&) = delete;
   PeriodicTask& operator=(const PeriodicTask&) = delete;
 
+  // Before start() (std::logic_error after): what a cycle that ends after its next deadline does.
+  void set_overrun(Overrun policy);
+  [[nodiscard]] Overrun overrun() const noexcept { return overrun_; }
   // Creates the thread (applying the spec) and starts the schedule. Once per task; a second call
   // throws std::logic_error.
   void start();
@@ -97,6 +108,7 @@ class PeriodicTask {
 
   ThreadSpec spec_;
   Body body_;
+  Overrun overrun_ = Overrun::kSkip;
   std::atomic<bool> stop_flag_{false};  // request_stop() touches only this: safe from the body
   SingleWriterCounter cycles_;
   SingleWriterCounter overruns_;

@@ -238,6 +238,9 @@ LiveResult run_live(const config::RobotConfig& cfg, const LiveOptions& o,
     rt::ThreadSpec mapper_spec = table_spec("mapper", rtc);
     mapper_spec.period_ns = period_ns(cfg.mapping.rate_hz);
     mapper_task = std::make_unique<rt::PeriodicTask>(mapper_spec, [&m = *mapper] { m.tick(); });
+    // Best effort: a tick that ran past its period (one with keyframes always does) is followed
+    // at once; the period only paces a mapper that has nothing to train yet.
+    mapper_task->set_overrun(rt::PeriodicTask::Overrun::kRunAtOnce);
   }
 
   dds::DdsConfig dds_config = dds::resolve_dds_config(cfg.dds, o.config_path);

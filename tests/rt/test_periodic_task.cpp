@@ -109,6 +109,54 @@ TEST(PeriodicTask, SlowBodyProducesCountedOverruns) {
   EXPECT_LE(ends.back(), monotonic_ns());
 }
 
+// Overrun::kRunAtOnce: a cycle that overran is followed at once, its deadline the late cycle's
+// end (no deadline is skipped); a cycle that did not overrun keeps the grid. kSkip's next
+// deadline after an overrun lies beyond the end, on the grid. Deadlines are the task's own
+// arithmetic, so the checks hold however late the thread wakes.
+TEST(PeriodicTask, RunAtOnceStartsTheNextCycleWhenALateOneEnds) {
+  for (const PeriodicTask::Overrun policy :
+       {PeriodicTask::Overrun::kRunAtOnce, PeriodicTask::Overrun::kSkip}) {
+    const std::int64_t period = ms_to_ns(20);
+    constexpr int kCycles = 8;
+    std::int64_t deadline[kCycles] = {}, end[kCycles] = {};
+    std::atomic<int> n{0};
+    PeriodicTask task(test_spec(period), [&](const PeriodicTask::Cycle& c) {
+      const int i = n.load();
+      if (i >= kCycles) return;
+      deadline[i] = c.deadline_ns;
+      if (i % 2 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(30));  // overruns
+      end[i] = monotonic_ns();
+      n.store(i + 1);
+    });
+    task.set_overrun(policy);
+    task.start();
+    EXPECT_THROW(task.set_overrun(PeriodicTask::Overrun::kSkip), std::logic_error);
+    const std::int64_t give_up = monotonic_ns() + s_to_ns(std::int64_t{10});
+    while (n.load() < kCycles && monotonic_ns() < give_up)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    task.stop();
+    ASSERT_EQ(n.load(), kCycles);
+    for (int i = 0; i + 1 < kCycles; ++i) {
+      if (i % 2 == 0) {  // overran: the next deadline is this cycle's end (read just after it)
+        EXPECT_GE(deadline[i + 1], end[i]);
+        if (policy == PeriodicTask::Overrun::kRunAtOnce) {
+          EXPECT_LT(deadline[i + 1] - end[i], period) << i;
+        } else {
+          EXPECT_EQ((deadline[i + 1] - deadline[0]) % period, 0) << i;
+        }
+      } else if (end[i] < deadline[i] + period) {  // on time: the grid goes on
+        EXPECT_EQ(deadline[i + 1], deadline[i] + period) << i;
+      }
+    }
+    if (policy == PeriodicTask::Overrun::kRunAtOnce) {
+      EXPECT_EQ(task.missed_deadlines(), 0u);
+      EXPECT_GE(task.overruns(), static_cast<std::uint64_t>(kCycles / 2));
+    } else {
+      EXPECT_GE(task.missed_deadlines(), task.overruns());
+    }
+  }
+}
+
 // shift_next_deadline moves the grid by the shift (clamped to half a period), and a shift
 // earlier never puts the next deadline before the end of the body that asked for it. Deadlines
 // are the task's own arithmetic, so the checks hold however late the thread wakes: a cycle that

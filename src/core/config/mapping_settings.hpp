@@ -107,10 +107,10 @@ struct MappingSettings {
     v.field("threads", threads, {"threads", 1, 64, "rasterizer worker threads"});
     v.field("rate_hz", rate_hz,
             {"Hz", 0.1, 1000.0,
-             "mapper task rate; a tick longer than the period starts the next at the following "
-             "deadline, so at the default 200 Hz a mapper with keyframes runs back to back (its "
-             "iterations take tens of ms) on whatever CPU the SCHED_FIFO threads leave (it is "
-             "SCHED_IDLE), and one without polls every 5 ms"});
+             "mapper task rate; a tick longer than the period is followed at once, so a mapper "
+             "with keyframes runs back to back (its iterations take tens of ms) on whatever CPU "
+             "the SCHED_FIFO threads leave (it is SCHED_IDLE), and one without polls every "
+             "period (5 ms at the default 200 Hz)"});
     v.field("iterations_per_tick", iterations_per_tick,
             {"iterations", 1, 1000, "optimisation iterations per mapper tick when budget_ms is 0"});
     v.field("coarse_iterations", coarse_iterations,
