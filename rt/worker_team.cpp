@@ -100,18 +100,25 @@ WorkerTeam::~WorkerTeam() {
 
 void WorkerTeam::stop_team() noexcept {
   stop_.store(true, std::memory_order_seq_cst);
-  generation_.fetch_add(1, std::memory_order_seq_cst);
+  generation_.fetch_add(2, std::memory_order_seq_cst);
   futex_wake(generation_, INT_MAX);
   workers_.clear();  // joins
 }
 
-void WorkerTeam::dispatch(void* task, Call call) {
+void WorkerTeam::dispatch(void* task, Call call, bool claimed) {
   task_ = task;
   call_ = call;
-  pending_.store(static_cast<std::uint32_t>(size_ - 1), std::memory_order_relaxed);
-  // seq_cst pairs with the workers' sleeping_workers_ increment before FUTEX_WAIT: either we see
-  // a sleeper and wake it, or its FUTEX_WAIT sees the new generation and returns at once.
-  generation_.fetch_add(1, std::memory_order_seq_cst);  // also publishes task_, call_, pending_
+  if (claimed) {
+    admit_.store(kOpen, std::memory_order_relaxed);  // nobody inside: the last job waited for them
+  } else {
+    pending_.store(static_cast<std::uint32_t>(size_ - 1), std::memory_order_relaxed);
+  }
+  // The owning thread is the only writer of the generation (a job counter times 2, the low bit
+  // the job's kind). seq_cst pairs with the workers' sleeping_workers_ increment before
+  // FUTEX_WAIT: either we see a sleeper and wake it, or its FUTEX_WAIT sees the new generation
+  // and returns at once. Also publishes task_, call_ and admit_ or pending_.
+  const std::uint32_t next = ((generation_.load(std::memory_order_relaxed) >> 1) + 1) << 1;
+  generation_.store(next | (claimed ? kClaimedJob : 0u), std::memory_order_seq_cst);
   bump(jobs_);
   if (sleeping_workers_.load(std::memory_order_seq_cst) != 0) futex_wake(generation_, INT_MAX);
 
@@ -121,16 +128,26 @@ void WorkerTeam::dispatch(void* task, Call call) {
     errors_[0] = std::current_exception();
   }
 
-  const auto done = [this] { return pending_.load(std::memory_order_acquire) == 0; };
-  if (!spin_until(done, spin_ns_.load(std::memory_order_relaxed))) {
+  // Wait on `word` until it reads 0: spin first, then sleep on the futex (the last worker to
+  // leave wakes the caller when caller_sleeping_ is set).
+  const auto wait_for_zero = [this](std::atomic<std::uint32_t>& word) {
+    const auto done = [&word] { return word.load(std::memory_order_acquire) == 0; };
+    if (spin_until(done, spin_ns_.load(std::memory_order_relaxed))) return;
     caller_sleeping_.store(1, std::memory_order_seq_cst);
     for (;;) {
-      const std::uint32_t left = pending_.load(std::memory_order_seq_cst);
+      const std::uint32_t left = word.load(std::memory_order_seq_cst);
       if (left == 0) break;
-      futex_wait(pending_, left);
+      futex_wait(word, left);
     }
     caller_sleeping_.store(0, std::memory_order_relaxed);
     bump(caller_sleeps_);
+  };
+  if (claimed) {
+    // Every item is claimed once the caller's own loop has returned: close the job to workers
+    // that have not joined yet, then wait for those inside.
+    if (admit_.fetch_and(~kOpen, std::memory_order_acq_rel) != kOpen) wait_for_zero(admit_);
+  } else {
+    wait_for_zero(pending_);
   }
 
   for (std::exception_ptr& e : errors_) {
@@ -161,6 +178,26 @@ void WorkerTeam::worker_loop(int m) noexcept {
     }
     seen = g;
     if (stop_.load(std::memory_order_acquire)) return;
+    if ((g & kClaimedJob) != 0) {
+      // A job that was announced while this worker slept or was held back may be closed by now
+      // (or it may be a later claimed job; joining that one is as good): task_ is read only
+      // from inside an open job, which the caller does not leave before everyone inside has.
+      if (!join_claimed()) {
+        bump(late_workers_);
+        continue;
+      }
+      try {
+        call_(task_, m);
+      } catch (...) {
+        errors_[static_cast<std::size_t>(m)] = std::current_exception();
+      }
+      // 1 before: closed, and this was the last worker inside (seq_cst: see dispatch).
+      if (admit_.fetch_sub(1, std::memory_order_seq_cst) == 1 &&
+          caller_sleeping_.load(std::memory_order_seq_cst) != 0) {
+        futex_wake(admit_, 1);
+      }
+      continue;
+    }
     try {
       call_(task_, m);
     } catch (...) {
@@ -172,6 +209,16 @@ void WorkerTeam::worker_loop(int m) noexcept {
       futex_wake(pending_, 1);
     }
   }
+}
+
+bool WorkerTeam::join_claimed() noexcept {
+  std::uint32_t w = admit_.load(std::memory_order_acquire);
+  while ((w & kOpen) != 0) {
+    if (admit_.compare_exchange_weak(w, w + 1, std::memory_order_acq_rel,
+                                     std::memory_order_acquire))
+      return true;
+  }
+  return false;
 }
 
 }  // namespace vigs::rt

@@ -6,7 +6,11 @@
 // work from m alone (chunk(), for_each_interleaved()) and sums partial results in member order,
 // so a result is bit-identical run to run for the same team size. run_claimed(n, fn) instead
 // hands items out to whichever member is free, for work whose per-item results do not depend on
-// the member (the mapper's: its SCHED_IDLE threads are preempted at any moment).
+// the member (the mapper's: its SCHED_IDLE threads are preempted at any moment). A run_claimed()
+// job waits only for the workers that joined it: when the caller has claimed past the last item
+// it closes the job, and a worker that wakes later (not yet scheduled, or preempted before it
+// joined) finds it closed and leaves it alone (late_workers()). So a worker the scheduler holds
+// back costs the caller nothing but its share, where run() must wait for it to start and finish.
 //
 // Threads: size() - 1 RtThreads started once in the constructor, each named and scheduled from
 // the thread table. Worker m takes worker_spec(first_worker, m): member 1 is exactly the table
@@ -103,12 +107,20 @@ class WorkerTeam {
   // items at tens of microseconds or more (chunk finer work).
   template <class Fn>
   void run_claimed(std::size_t n, Fn&& fn) {
-    claim_.store(0, std::memory_order_relaxed);  // published by run()'s release of the job
-    run([&](int m) {
+    const auto claim_loop = [&](int m) {
       for (std::size_t i = claim_.fetch_add(1, std::memory_order_relaxed); i < n;
            i = claim_.fetch_add(1, std::memory_order_relaxed))
         fn(m, i);
-    });
+    };
+    claim_.store(0, std::memory_order_relaxed);  // published by dispatch()'s release of the job
+    if (size_ == 1) {
+      claim_loop(0);
+      return;
+    }
+    using F = decltype(claim_loop);
+    dispatch(
+        const_cast<void*>(static_cast<const void*>(std::addressof(claim_loop))),
+        [](void* f, int m) { (*static_cast<const F*>(f))(m); }, true);
   }
 
   // Calls fn(i) for member m's items of [0, n): blocks of `block` items dealt round robin (block
@@ -139,10 +151,22 @@ class WorkerTeam {
   [[nodiscard]] std::uint64_t caller_sleeps() const noexcept {
     return caller_sleeps_.load(std::memory_order_relaxed);
   }
+  // Workers that woke for a run_claimed() job the caller had already closed (all items claimed).
+  [[nodiscard]] std::uint64_t late_workers() const noexcept {
+    return late_workers_.load(std::memory_order_relaxed);
+  }
 
  private:
   using Call = void (*)(void*, int);
-  void dispatch(void* task, Call call);
+  // claimed: a run_claimed() job (workers join while it is open, the caller waits for those that
+  // joined); otherwise every member runs it and the caller waits for all.
+  void dispatch(void* task, Call call, bool claimed = false);
+  // A worker joins the open run_claimed() job: false when it is closed.
+  bool join_claimed() noexcept;
+  // The generation word: a job counter times 2, plus 1 for a run_claimed() job.
+  static constexpr std::uint32_t kClaimedJob = 1;
+  // admit_: kOpen while the caller may still be claiming items, plus the workers inside the job.
+  static constexpr std::uint32_t kOpen = 1u << 31;
   void worker_loop(int m) noexcept;
   void stop_team() noexcept;  // stop flag, wake every worker, join
 
@@ -156,11 +180,13 @@ class WorkerTeam {
   std::atomic<std::uint32_t> sleeping_workers_{0};
   alignas(kCacheLineSize) std::atomic<std::uint32_t> pending_{0};
   std::atomic<std::uint32_t> caller_sleeping_{0};
-  alignas(kCacheLineSize) std::atomic<std::size_t> claim_{0};  // run_claimed's next item
+  alignas(kCacheLineSize) std::atomic<std::size_t> claim_{0};    // run_claimed's next item
+  alignas(kCacheLineSize) std::atomic<std::uint32_t> admit_{0};  // run_claimed: kOpen | joined
   alignas(kCacheLineSize) std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> jobs_{0};
   std::atomic<std::uint64_t> worker_sleeps_{0};
   std::atomic<std::uint64_t> caller_sleeps_{0};
+  std::atomic<std::uint64_t> late_workers_{0};
   std::vector<std::unique_ptr<RtThread>> workers_;  // last: destroyed (joined) first
 };
 

@@ -77,6 +77,33 @@ TEST(WorkerTeam, ClaimedItemsRunExactlyOnceEachOnAValidMember) {
   }
 }
 
+// A run_claimed() job waits only for the workers that joined it. Tiny jobs whose one item the
+// caller claims at once close before a sleeping worker is up (late_workers counts those), every
+// item still runs exactly once, and run() jobs in between still get every member. The caller
+// checks the slots with plain reads: TSan flags them unless joining orders the writes.
+TEST(WorkerTeam, ClaimedJobsCloseWithoutWorkersThatHaveNotJoined) {
+  WorkerTeam team(3, ThreadSpec{.name = "late_w1"}, 0);
+  const std::uint64_t jobs = test::stress_items(20'000);
+  std::vector<std::uint64_t> slot(3 * 16, 0);
+  std::uint64_t item_runs = 0, expect_each = 0;
+  for (std::uint64_t j = 0; j < jobs; ++j) {
+    team.run_claimed(1, [&](int m, std::size_t) {
+      ++slot[static_cast<std::size_t>(m) * 16 + 1];
+      ++item_runs;  // one item: never two members at once
+    });
+    ASSERT_EQ(item_runs, j + 1);
+    if (j % 8 == 0) {
+      team.run([&](int m) { ++slot[static_cast<std::size_t>(m) * 16]; });
+      ++expect_each;
+      for (int m = 0; m < 3; ++m) ASSERT_EQ(slot[static_cast<std::size_t>(m) * 16], expect_each);
+    }
+  }
+  std::uint64_t by_members = 0;
+  for (int m = 0; m < 3; ++m) by_members += slot[static_cast<std::size_t>(m) * 16 + 1];
+  EXPECT_EQ(by_members, jobs);
+  EXPECT_GT(team.late_workers(), 0u);
+}
+
 // The reason run_claimed exists: a member that is held up (preempted) on one item must not hold
 // up the rest. The member that claims item 0 waits until every other item is done; a fixed
 // partition would leave its share undone and time out.
