@@ -68,12 +68,13 @@ Ssim<T>::Ssim(SsimOptions options, rt::WorkerTeam* pool) : opt_(options), pool_(
 }
 
 template <class T>
-void Ssim<T>::for_rows(int rows, const std::function<void(int, int, int, int)>& fn) {
+void Ssim<T>::for_rows(int rows, int block_rows,
+                       const std::function<void(int, int, int, int)>& fn) {
   const auto body = [&](int t, std::size_t b) {
-    const int r0 = static_cast<int>(b) * kRowsPerBlock;
-    fn(t, static_cast<int>(b), r0, std::min(rows, r0 + kRowsPerBlock));
+    const int r0 = static_cast<int>(b) * block_rows;
+    fn(t, static_cast<int>(b), r0, std::min(rows, r0 + block_rows));
   };
-  const auto blocks = static_cast<std::size_t>(row_blocks(rows));
+  const auto blocks = static_cast<std::size_t>(row_blocks(rows, block_rows));
   if (pool_) {
     pool_->run_claimed(blocks, body);
   } else {
@@ -101,7 +102,6 @@ T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, cons
   const int wv = width - K + 1, hv = height - K + 1, half = K / 2;
   const std::size_t w = static_cast<std::size_t>(width);
   const std::size_t np = w * static_cast<std::size_t>(height);
-  const std::size_t nh = static_cast<std::size_t>(height) * static_cast<std::size_t>(wv);
   const std::size_t nv = static_cast<std::size_t>(wv) * static_cast<std::size_t>(hv);
   const T L = T(opt_.data_range);
   const T C1 = (T(0.01) * L) * (T(0.01) * L), C2 = (T(0.03) * L) * (T(0.03) * L);
@@ -115,8 +115,8 @@ T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, cons
   // whatever the blocks)
   std::size_t n_valid = nv;
   if (mask) {
-    valid_.assign(static_cast<std::size_t>(row_blocks(hv)), 0);
-    for_rows(hv, [&](int, int block, int r0, int r1) {
+    valid_.assign(static_cast<std::size_t>(row_blocks(hv, kRowsPerBlock)), 0);
+    for_rows(hv, kRowsPerBlock, [&](int, int block, int r0, int r1) {
       std::size_t n = 0;
       for (int yy = r0; yy < r1; ++yy)
         for (int xx = 0; xx < wv; ++xx) n += centre_on(yy, xx) ? 1 : 0;
@@ -133,25 +133,39 @@ T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, cons
   const T inv_n = T(1) / (T(n_valid) * T(channels));
   const SsimRowTerms<T> terms{C1, C2, cn, inv_n};
   const int nt = pool_ ? pool_->size() : 1;
-  tmp_.resize(5 * nh);
-  maps_.resize(5 * nv);
-  if (grad_x) g_.resize(3 * nv);
-  rows_.resize(static_cast<std::size_t>(nt) * 5 * w);
+  const std::size_t cs = static_cast<std::size_t>(channels);
+  const std::size_t wvs = static_cast<std::size_t>(wv);
+  // Per thread: a strip's horizontally filtered rows (5 planes of kStripRows + K - 1 rows), one
+  // row's window moments (5 x wv), a deinterleaved input row (5 x w), the transposed filters'
+  // vertical rows (3 x wv) and the zero-padded row of the horizontal transpose.
+  const auto strip_in = static_cast<std::size_t>(kStripRows + K - 1);
+  const std::size_t hbuf_len = 5 * strip_in * wvs;
   const std::size_t pad_len = w + static_cast<std::size_t>(K);  // wv + 2 (K - 1) <= w + K
-  pad_.resize(static_cast<std::size_t>(nt) * pad_len);
-  const auto n_blocks = static_cast<std::size_t>(row_blocks(hv));
-  partial_.assign(n_blocks * static_cast<std::size_t>(channels), 0.0);
+  const std::size_t scratch_len = hbuf_len + 5 * wvs + 5 * w + 3 * wvs + pad_len;
+  scratch_.resize(static_cast<std::size_t>(nt) * scratch_len);
+  if (grad_x) g_.resize(cs * 3 * nv);
+  const auto n_strips = static_cast<std::size_t>(row_blocks(hv, kStripRows));
+  partial_.assign(n_strips * cs, 0.0);
   const T* win = win_.data();
   const bool simd = opt_.use_simd, avx512 = opt_.use_avx512;
-  const std::size_t cs = static_cast<std::size_t>(channels);
-  for (int c = 0; c < channels; ++c) {
-    // horizontal pass of x, y, xx, yy, xy: deinterleave a row into 5 planes, then filter each
-    // plane with the tap loop outside so the inner loop is contiguous: tmp (5 x h x wv)
-    for_rows(height, [&](int t, int, int r0, int r1) {
-      T* rowbuf = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
-      for (int r = r0; r < r1; ++r) {
-        const T* xr = x + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
-        const T* yr = y + static_cast<std::size_t>(r) * w * cs + static_cast<std::size_t>(c);
+  // Forward, a strip of kStripRows window rows at a time (every channel): the horizontal pass of
+  // x, y, xx, yy, xy over the strip's input rows (deinterleave a row into 5 planes, then filter
+  // each plane with the tap loop outside so the inner loop is contiguous), then per window row the
+  // vertical pass, the SSIM map and its partial derivatives (g_, per channel). A strip's rows stay
+  // in cache between the passes; the K - 1 rows it shares with the next strip are filtered twice.
+  for_rows(hv, kStripRows, [&](int t, int strip, int r0, int r1) {
+    T* hbuf = scratch_.data() + static_cast<std::size_t>(t) * scratch_len;
+    T* moments_row = hbuf + hbuf_len;
+    T* rowbuf = moments_row + 5 * wvs;
+    const int in0 = r0, in1 = r1 + K - 1;
+    const auto plane = [&](int m, int r) {  // strip row r (an input row) of plane m
+      return hbuf +
+             (static_cast<std::size_t>(m) * strip_in + static_cast<std::size_t>(r - in0)) * wvs;
+    };
+    for (std::size_t c = 0; c < cs; ++c) {
+      for (int r = in0; r < in1; ++r) {
+        const T* xr = x + static_cast<std::size_t>(r) * w * cs + c;
+        const T* yr = y + static_cast<std::size_t>(r) * w * cs + c;
         for (std::size_t q = 0; q < w; ++q) {
           const T a = xr[q * cs], b = yr[q * cs];
           rowbuf[q] = a;
@@ -161,89 +175,81 @@ T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, cons
           rowbuf[4 * w + q] = a * b;
         }
         for (int m = 0; m < 5; ++m) {
-          T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
-                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
           const T* src = rowbuf + static_cast<std::size_t>(m) * w;
           const T* taps[kMaxTaps];
           for (int k = 0; k < K; ++k) taps[k] = src + k;
-          filter_row(o, taps, win, K, wv, simd, avx512);
+          filter_row(plane(m, r), taps, win, K, wv, simd, avx512);
         }
       }
-    });
-    // vertical pass, then the SSIM map and its partial derivatives
-    for_rows(hv, [&](int, int block, int r0, int r1) {
       double sum = 0;
       for (int r = r0; r < r1; ++r) {
         for (int m = 0; m < 5; ++m) {
-          T* o = maps_.data() + static_cast<std::size_t>(m) * nv +
-                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
-          const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh;
           const T* taps[kMaxTaps];
-          for (int k = 0; k < K; ++k)
-            taps[k] = src + static_cast<std::size_t>(r + k) * static_cast<std::size_t>(wv);
-          filter_row(o, taps, win, K, wv, simd, avx512);
+          for (int k = 0; k < K; ++k) taps[k] = plane(m, r + k);
+          filter_row(moments_row + static_cast<std::size_t>(m) * wvs, taps, win, K, wv, simd,
+                     avx512);
         }
-        const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
-        const T* const moments[5] = {maps_.data() + row, maps_.data() + nv + row,
-                                     maps_.data() + 2 * nv + row, maps_.data() + 3 * nv + row,
-                                     maps_.data() + 4 * nv + row};
-        T* const grads[3] = {g_.data() + row, g_.data() + nv + row, g_.data() + 2 * nv + row};
+        const T* const moments[5] = {moments_row, moments_row + wvs, moments_row + 2 * wvs,
+                                     moments_row + 3 * wvs, moments_row + 4 * wvs};
+        T* const g = g_.data() + c * 3 * nv + static_cast<std::size_t>(r) * wvs;
+        T* const grads[3] = {g, g + nv, g + 2 * nv};
         const T* on_mask =
             mask ? mask + static_cast<std::size_t>(r + half) * w + static_cast<std::size_t>(half)
                  : nullptr;
         sum += map_row(moments, on_mask, terms, grad_x ? grads : nullptr, wv, simd);
       }
-      partial_[static_cast<std::size_t>(block) * cs + static_cast<std::size_t>(c)] = sum;
-    });
-    if (!grad_x) continue;
-    // transposed filters as gathers: vertical into tmp (3 x h x wv), then horizontal per row;
+      partial_[static_cast<std::size_t>(strip) * cs + c] = sum;
+    }
+  });
+  if (grad_x) {
+    // transposed filters as gathers, per pixel row: vertical (3 x wv), then horizontal;
     // dL/dx_q = (W^T g_mu)_q + 2 x_q (W^T g_xx)_q + y_q (W^T g_xy)_q
-    for_rows(height, [&](int t, int, int r0, int r1) {
+    for_rows(height, kRowsPerBlock, [&](int t, int, int r0, int r1) {
+      T* const base = scratch_.data() + static_cast<std::size_t>(t) * scratch_len;
+      T* back = base + hbuf_len + 5 * wvs;
+      T* vert = back + 5 * w;
       // the horizontal transpose below reads each row from a copy with K - 1 zeros on either
       // side; the copies overwrite only the middle, so the zeros are written once per block
-      T* pad = pad_.data() + static_cast<std::size_t>(t) * pad_len;
+      T* pad = vert + 3 * wvs;
       const auto edge = static_cast<std::size_t>(K - 1);
-      for (std::size_t q = 0; q < edge; ++q)
-        pad[q] = pad[edge + static_cast<std::size_t>(wv) + q] = 0;
-      for (int r = r0; r < r1; ++r) {
-        for (int m = 0; m < 3; ++m) {
-          T* o = tmp_.data() + static_cast<std::size_t>(m) * nh +
-                 static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
+      for (std::size_t q = 0; q < edge; ++q) pad[q] = pad[edge + wvs + q] = 0;
+      for (std::size_t c = 0; c < cs; ++c) {
+        const T* gc = g_.data() + c * 3 * nv;
+        for (int r = r0; r < r1; ++r) {
           // the taps k whose source row r - k is a valid window row, in order k
           const int k0 = std::max(0, r - hv + 1), k1 = std::min(K - 1, r);
-          const T* taps[kMaxTaps];
-          for (int k = k0; k <= k1; ++k)
-            taps[k - k0] = g_.data() + static_cast<std::size_t>(m) * nv +
-                           static_cast<std::size_t>(r - k) * static_cast<std::size_t>(wv);
-          filter_row(o, taps, win + k0, k1 - k0 + 1, wv, simd, avx512);
-        }
-        // horizontal transpose: back[q] = sum_k win[k] src[q - k] over 0 <= q - k < wv
-        T* back = rows_.data() + static_cast<std::size_t>(t) * 5 * w;
-        for (int m = 0; m < 3; ++m) {
-          const T* src = tmp_.data() + static_cast<std::size_t>(m) * nh +
-                         static_cast<std::size_t>(r) * static_cast<std::size_t>(wv);
-          std::copy(src, src + wv, pad + edge);
-          const T* taps[kMaxTaps];
-          for (int k = 0; k < K; ++k) taps[k] = pad + edge - static_cast<std::size_t>(k);
-          filter_row(back + static_cast<std::size_t>(m) * w, taps, win, K, width, simd, avx512);
-        }
-        for (std::size_t q = 0; q < w; ++q) {
-          const std::size_t i =
-              (static_cast<std::size_t>(r) * w + q) * cs + static_cast<std::size_t>(c);
-          const T d = back[q] + T(2) * x[i] * back[w + q] + y[i] * back[2 * w + q];
-          if (add) {
-            grad_x[i] += weight * d;
-          } else {
-            grad_x[i] = d;
+          for (int m = 0; m < 3; ++m) {
+            const T* taps[kMaxTaps];
+            for (int k = k0; k <= k1; ++k)
+              taps[k - k0] =
+                  gc + static_cast<std::size_t>(m) * nv + static_cast<std::size_t>(r - k) * wvs;
+            filter_row(vert + static_cast<std::size_t>(m) * wvs, taps, win + k0, k1 - k0 + 1, wv,
+                       simd, avx512);
+          }
+          // horizontal transpose: back[q] = sum_k win[k] src[q - k] over 0 <= q - k < wv
+          for (int m = 0; m < 3; ++m) {
+            const T* src = vert + static_cast<std::size_t>(m) * wvs;
+            std::copy(src, src + wv, pad + edge);
+            const T* taps[kMaxTaps];
+            for (int k = 0; k < K; ++k) taps[k] = pad + edge - static_cast<std::size_t>(k);
+            filter_row(back + static_cast<std::size_t>(m) * w, taps, win, K, width, simd, avx512);
+          }
+          for (std::size_t q = 0; q < w; ++q) {
+            const std::size_t i = (static_cast<std::size_t>(r) * w + q) * cs + c;
+            const T d = back[q] + T(2) * x[i] * back[w + q] + y[i] * back[2 * w + q];
+            if (add) {
+              grad_x[i] += weight * d;
+            } else {
+              grad_x[i] = d;
+            }
           }
         }
       }
     });
   }
   double total = 0;
-  for (int c = 0; c < channels; ++c)
-    for (std::size_t b = 0; b < n_blocks; ++b)
-      total += partial_[b * cs + static_cast<std::size_t>(c)];
+  for (std::size_t c = 0; c < cs; ++c)
+    for (std::size_t b = 0; b < n_strips; ++b) total += partial_[b * cs + c];
   return T(total / (static_cast<double>(n_valid) * channels));
 }
 

@@ -52,11 +52,13 @@ class Ssim {
 
  private:
   static constexpr int kRowsPerBlock = 16;
-  [[nodiscard]] static int row_blocks(int rows) {
-    return (rows + kRowsPerBlock - 1) / kRowsPerBlock;
+  /// Window rows per strip of the forward pass (its input rows, K - 1 more, stay in cache).
+  static constexpr int kStripRows = 32;
+  [[nodiscard]] static int row_blocks(int rows, int block_rows) {
+    return (rows + block_rows - 1) / block_rows;
   }
-  /// fn(member, block, first row, end row) for every block of kRowsPerBlock rows of [0, rows).
-  void for_rows(int rows, const std::function<void(int, int, int, int)>& fn);
+  /// fn(member, block, first row, end row) for every block of block_rows rows of [0, rows).
+  void for_rows(int rows, int block_rows, const std::function<void(int, int, int, int)>& fn);
   /// evaluate() and evaluate_add_gradient(): grad_x[i] = dS/dx, or += weight * dS/dx with add.
   T run(const T* x, const T* y, int width, int height, int channels, const T* mask, T* grad_x,
         bool add, T weight);
@@ -64,8 +66,9 @@ class Ssim {
   SsimOptions opt_;
   rt::WorkerTeam* pool_;
   std::vector<T> win_;
-  std::vector<T> tmp_, maps_, g_, rows_, pad_;
-  std::vector<double> partial_;     ///< per row block and channel, summed in block order
+  std::vector<T> scratch_;  ///< per thread: strip rows, moments, row buffers (ssim.cpp)
+  std::vector<T> g_;        ///< per channel: dS/d(mean x), d(mean x^2), d(mean xy) per window
+  std::vector<double> partial_;     ///< per strip and channel, summed in strip order
   std::vector<std::size_t> valid_;  ///< windows on per row block
 };
 
