@@ -66,9 +66,9 @@ class Ssim {
   SsimOptions opt_;
   rt::WorkerTeam* pool_;
   std::vector<T> win_;
-  std::vector<T> scratch_;  ///< per thread: strip rows, moments, row buffers (ssim.cpp)
-  std::vector<T> g_;        ///< per channel: dS/d(mean x), d(mean x^2), d(mean xy) per window
-  std::vector<double> partial_;     ///< per strip and channel, summed in strip order
+  std::vector<T> scratch_;       ///< per thread: strip rows, moments, row buffers (ssim.cpp)
+  std::vector<T> g_;             ///< per channel: dS/d(mean x), d(mean x^2), d(mean xy) per window
+  std::vector<double> partial_;  ///< per strip and channel, summed in strip order
   std::vector<std::size_t> valid_;  ///< windows on per row block
 };
 
