@@ -109,7 +109,10 @@ void WorkerTeam::dispatch(void* task, Call call, bool claimed) {
   task_ = task;
   call_ = call;
   if (claimed) {
-    admit_.store(kOpen, std::memory_order_relaxed);  // nobody inside: the last job waited for them
+    // Nobody is inside: the last job waited for them. Release: a worker still on its way from an
+    // earlier claimed job may join this one through admit_ alone, without reading the
+    // generation below, and must see task_, call_ and claim_ as they are now.
+    admit_.store(kOpen, std::memory_order_release);
   } else {
     pending_.store(static_cast<std::uint32_t>(size_ - 1), std::memory_order_relaxed);
   }
