@@ -181,6 +181,8 @@ void WorkerTeam::worker_loop(int m) noexcept {
     }
     seen = g;
     if (stop_.load(std::memory_order_acquire)) return;
+    // A run() job counts down pending_; a claimed job counts its members out of admit_.
+    std::atomic<std::uint32_t>* done = &pending_;
     if ((g & kClaimedJob) != 0) {
       // A job that was announced while this worker slept or was held back may be closed by now
       // (or it may be a later claimed job; joining that one is as good): task_ is read only
@@ -189,27 +191,18 @@ void WorkerTeam::worker_loop(int m) noexcept {
         bump(late_workers_);
         continue;
       }
-      try {
-        call_(task_, m);
-      } catch (...) {
-        errors_[static_cast<std::size_t>(m)] = std::current_exception();
-      }
-      // 1 before: closed, and this was the last worker inside (seq_cst: see dispatch).
-      if (admit_.fetch_sub(1, std::memory_order_seq_cst) == 1 &&
-          caller_sleeping_.load(std::memory_order_seq_cst) != 0) {
-        futex_wake(admit_, 1);
-      }
-      continue;
+      done = &admit_;
     }
     try {
       call_(task_, m);
     } catch (...) {
       errors_[static_cast<std::size_t>(m)] = std::current_exception();
     }
-    // The last member to finish wakes the caller if it went to sleep (seq_cst: see dispatch).
-    if (pending_.fetch_sub(1, std::memory_order_seq_cst) == 1 &&
+    // 1 before: this was the last member (of a claimed job: the last inside, after it closed).
+    // It wakes the caller if it went to sleep (seq_cst: see dispatch).
+    if (done->fetch_sub(1, std::memory_order_seq_cst) == 1 &&
         caller_sleeping_.load(std::memory_order_seq_cst) != 0) {
-      futex_wake(pending_, 1);
+      futex_wake(*done, 1);
     }
   }
 }
