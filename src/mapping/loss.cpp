@@ -3,26 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mapping/row_blocks.hpp"
+
 namespace vigs::mapping {
 
 template <class T>
 PhotometricLoss<T>::PhotometricLoss(LossSettings s, rt::WorkerTeam* pool, bool color_without_depth)
     : s_(s), color_without_depth_(color_without_depth), pool_(pool), ssim_(SsimOptions{}, pool) {}
-
-template <class T>
-void PhotometricLoss<T>::for_row_blocks(int height,
-                                        const std::function<void(std::size_t, int, int)>& fn) {
-  const auto blocks = static_cast<std::size_t>((height + kRowsPerBlock - 1) / kRowsPerBlock);
-  const auto body = [&](int, std::size_t b) {
-    const int r0 = static_cast<int>(b) * kRowsPerBlock;
-    fn(b, r0, std::min(height, r0 + kRowsPerBlock));
-  };
-  if (pool_) {
-    pool_->run_claimed(blocks, body);
-  } else {
-    for (std::size_t b = 0; b < blocks; ++b) body(0, b);
-  }
-}
 
 // The per-pixel passes run over blocks of rows on the pool (they were the mapper's longest serial
 // stretch); the sums are kept per block and added in block order, so the result does not depend
@@ -37,11 +24,10 @@ LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* tar
   const T* mask = nullptr;
   const T* ssim_mask = nullptr;
   std::size_t n_mask = np;
-  blocks_.assign(static_cast<std::size_t>((r.height + kRowsPerBlock - 1) / kRowsPerBlock),
-                 BlockSums{});
+  blocks_.assign(row_block_count(r.height, kRowsPerBlock), BlockSums{});
   if (target_depth_m) {
     mask_.resize(np);
-    for_row_blocks(r.height, [&](std::size_t b, int r0, int r1) {
+    for_row_blocks(pool_, r.height, kRowsPerBlock, [&](int, int b, int r0, int r1) {
       std::size_t n = 0;
       bool moving = false;
       for (std::size_t i = static_cast<std::size_t>(r0) * w; i < static_cast<std::size_t>(r1) * w;
@@ -52,8 +38,8 @@ LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* tar
         mask_[i] = d > T(0) || (color_without_depth_ && !(d < T(0))) ? T(1) : T(0);
         n += mask_[i] > T(0) ? 1 : 0;
       }
-      blocks_[b].n_mask = n;
-      blocks_[b].moving = moving;
+      blocks_[static_cast<std::size_t>(b)].n_mask = n;
+      blocks_[static_cast<std::size_t>(b)].moving = moving;
     });
     n_mask = 0;
     bool moving = false;
@@ -68,7 +54,7 @@ LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* tar
   const bool depth_term = target_depth_m && lam_d > T(0) && n_mask > 0;
   const T inv_d = n_mask ? T(1) / T(n_mask) : T(0);
   // L1 colour and L1 depth with their gradients
-  for_row_blocks(r.height, [&](std::size_t b, int r0, int r1) {
+  for_row_blocks(pool_, r.height, kRowsPerBlock, [&](int, int b, int r0, int r1) {
     double l1 = 0, l1d = 0;
     for (std::size_t i = static_cast<std::size_t>(r0) * w; i < static_cast<std::size_t>(r1) * w;
          ++i) {
@@ -87,8 +73,8 @@ LossTerms<T> PhotometricLoss<T>::evaluate(const RenderResult<T>& r, const T* tar
       l1d += static_cast<double>(std::abs(d));
       if (v_depth) v_depth[i] = lam_d * inv_d * (d > T(0) ? T(1) : (d < T(0) ? T(-1) : T(0)));
     }
-    blocks_[b].l1_color = l1;
-    blocks_[b].l1_depth = l1d;
+    blocks_[static_cast<std::size_t>(b)].l1_color = l1;
+    blocks_[static_cast<std::size_t>(b)].l1_depth = l1d;
   });
   double l1 = 0, l1d = 0;
   for (const BlockSums& b : blocks_) {

@@ -8,7 +8,6 @@
 // SSIM uses the 11x11 Gaussian window (sigma 1.5) over valid windows, with its analytic
 // gradient.
 #include <cstddef>
-#include <functional>
 #include <vector>
 
 #include "core/config/mapping_components.hpp"
@@ -50,8 +49,6 @@ class PhotometricLoss {
   /// mask_ without the SSIM windows that hold a moving pixel (ssim_mask_).
   const T* without_moving_windows(const T* target_depth_m, int width, int height);
   static constexpr int kRowsPerBlock = 16;
-  /// fn(block, first row, end row) for every block of kRowsPerBlock rows, on the pool if any.
-  void for_row_blocks(int height, const std::function<void(std::size_t, int, int)>& fn);
   /// One block of rows' share of the masks and sums.
   struct BlockSums {
     std::size_t n_mask = 0;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "mapping/row_blocks.hpp"
 #include "mapping/simd_weighted_rows.hpp"
 #include "mapping/ssim_map_row.hpp"
 
@@ -68,21 +69,6 @@ Ssim<T>::Ssim(SsimOptions options, rt::WorkerTeam* pool) : opt_(options), pool_(
 }
 
 template <class T>
-void Ssim<T>::for_rows(int rows, int block_rows,
-                       const std::function<void(int, int, int, int)>& fn) {
-  const auto body = [&](int t, std::size_t b) {
-    const int r0 = static_cast<int>(b) * block_rows;
-    fn(t, static_cast<int>(b), r0, std::min(rows, r0 + block_rows));
-  };
-  const auto blocks = static_cast<std::size_t>(row_blocks(rows, block_rows));
-  if (pool_) {
-    pool_->run_claimed(blocks, body);
-  } else {
-    for (std::size_t b = 0; b < blocks; ++b) body(0, b);
-  }
-}
-
-template <class T>
 T Ssim<T>::evaluate(const T* x, const T* y, int width, int height, int channels, const T* mask,
                     T* grad_x) {
   return run(x, y, width, height, channels, mask, grad_x, false, T(1));
@@ -115,8 +101,8 @@ T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, cons
   // whatever the blocks)
   std::size_t n_valid = nv;
   if (mask) {
-    valid_.assign(static_cast<std::size_t>(row_blocks(hv, kRowsPerBlock)), 0);
-    for_rows(hv, kRowsPerBlock, [&](int, int block, int r0, int r1) {
+    valid_.assign(row_block_count(hv, kRowsPerBlock), 0);
+    for_row_blocks(pool_, hv, kRowsPerBlock, [&](int, int block, int r0, int r1) {
       std::size_t n = 0;
       for (int yy = r0; yy < r1; ++yy)
         for (int xx = 0; xx < wv; ++xx) n += centre_on(yy, xx) ? 1 : 0;
@@ -144,7 +130,7 @@ T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, cons
   const std::size_t scratch_len = hbuf_len + 5 * wvs + 5 * w + 3 * wvs + pad_len;
   scratch_.resize(static_cast<std::size_t>(nt) * scratch_len);
   if (grad_x) g_.resize(cs * 3 * nv);
-  const auto n_strips = static_cast<std::size_t>(row_blocks(hv, kStripRows));
+  const std::size_t n_strips = row_block_count(hv, kStripRows);
   partial_.assign(n_strips * cs, 0.0);
   const T* win = win_.data();
   const bool simd = opt_.use_simd, avx512 = opt_.use_avx512;
@@ -153,7 +139,7 @@ T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, cons
   // each plane with the tap loop outside so the inner loop is contiguous), then per window row the
   // vertical pass, the SSIM map and its partial derivatives (g_, per channel). A strip's rows stay
   // in cache between the passes; the K - 1 rows it shares with the next strip are filtered twice.
-  for_rows(hv, kStripRows, [&](int t, int strip, int r0, int r1) {
+  for_row_blocks(pool_, hv, kStripRows, [&](int t, int strip, int r0, int r1) {
     T* hbuf = scratch_.data() + static_cast<std::size_t>(t) * scratch_len;
     T* moments_row = hbuf + hbuf_len;
     T* rowbuf = moments_row + 5 * wvs;
@@ -204,7 +190,7 @@ T Ssim<T>::run(const T* x, const T* y, int width, int height, int channels, cons
   if (grad_x) {
     // transposed filters as gathers, per pixel row: vertical (3 x wv), then horizontal;
     // dL/dx_q = (W^T g_mu)_q + 2 x_q (W^T g_xx)_q + y_q (W^T g_xy)_q
-    for_rows(height, kRowsPerBlock, [&](int t, int, int r0, int r1) {
+    for_row_blocks(pool_, height, kRowsPerBlock, [&](int t, int, int r0, int r1) {
       T* const base = scratch_.data() + static_cast<std::size_t>(t) * scratch_len;
       T* back = base + hbuf_len + 5 * wvs;
       T* vert = back + 5 * w;

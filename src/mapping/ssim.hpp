@@ -5,7 +5,6 @@
 // crop (sample covariance), its 11x11 Gaussian with a 5-pixel crop (population covariance) and
 // pytorch-msssim's valid 11x11 Gaussian (sigma 1.5).
 #include <cstddef>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -54,11 +53,6 @@ class Ssim {
   static constexpr int kRowsPerBlock = 16;
   /// Window rows per strip of the forward pass (its input rows, K - 1 more, stay in cache).
   static constexpr int kStripRows = 32;
-  [[nodiscard]] static int row_blocks(int rows, int block_rows) {
-    return (rows + block_rows - 1) / block_rows;
-  }
-  /// fn(member, block, first row, end row) for every block of block_rows rows of [0, rows).
-  void for_rows(int rows, int block_rows, const std::function<void(int, int, int, int)>& fn);
   /// evaluate() and evaluate_add_gradient(): grad_x[i] = dS/dx, or += weight * dS/dx with add.
   T run(const T* x, const T* y, int width, int height, int channels, const T* mask, T* grad_x,
         bool add, T weight);
