@@ -65,7 +65,6 @@ class PeriodicTask {
 
   // Before start() (std::logic_error after): what a cycle that ends after its next deadline does.
   void set_overrun(Overrun policy);
-  [[nodiscard]] Overrun overrun() const noexcept { return overrun_; }
   // Creates the thread (applying the spec) and starts the schedule. Once per task; a second call
   // throws std::logic_error.
   void start();
