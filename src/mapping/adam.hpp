@@ -47,7 +47,7 @@ class Adam {
   /// their momentum. The step count stays global, as in gsplat. A view's iteration then costs
   /// what the view sees, not the whole map: on a 4 M-Gaussian office the dense step streams
   /// about 1.4 GB of parameters and moments per iteration for the few hundred thousand
-  /// Gaussians one camera sees.
+  /// Gaussians one camera sees. grad_of(k, gr) gives the gradient of Gaussian ids[k].
   template <class GradFn, class Ranges>
   void step_selected(GaussianMap& p, const std::vector<int>& ids, GradFn&& grad_of,
                      Ranges&& ranges) {
@@ -57,7 +57,7 @@ class Adam {
       float gr[14];
       for (std::size_t k = b; k < e; ++k) {
         const auto i = static_cast<std::size_t>(ids[k]);
-        grad_of(i, gr);
+        grad_of(k, gr);
         update_gaussian(p, i, gr, c);
       }
     });

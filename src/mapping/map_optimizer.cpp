@@ -39,8 +39,7 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
   raster_.accumulate_gradients(view.camera, render_, v_color_.data(),
                                view.depth_m ? v_depth_.data() : nullptr, nullptr);
   // fused: each Gaussian's gradient goes straight into its Adam update, no gradient copy
-  const auto grad_of = [&](std::size_t i, float* g) {
-    raster_.gaussian_gradient(map, view.camera, i, g);
+  const auto checked = [&](std::size_t i, float* g) {
     bool finite = true;
     for (int k = 0; k < Rasterizer<float>::kParamGrads; ++k) finite = finite && std::isfinite(g[k]);
     if (!finite) {
@@ -55,9 +54,27 @@ LossTerms<float> MapOptimizer::iterate(GaussianMap& map, const TrainingView& vie
     raster_.for_ranges(n, fn);
   };
   if (adam_.settings().visible_only) {
-    adam_.step_selected(map, raster_.visible_ids(), grad_of, ranges);
-    blocks_.mark_changed(raster_.visible_ids());
+    const std::vector<int>& ids = raster_.visible_ids();
+    const auto grad_of_slot = [&](std::size_t slot, float* g) {
+      raster_.slot_gradient(map, view.camera, slot, g);
+      checked(static_cast<std::size_t>(ids[slot]), g);
+    };
+    adam_.step_selected(map, ids, grad_of_slot, ranges);
+    blocks_.mark_changed(ids);
   } else {
+    // every Gaussian steps: each one's visible slot (the dense step is O(map) anyway)
+    const std::vector<int>& ids = raster_.visible_ids();
+    dense_slot_.assign(map.size(), -1);
+    for (std::size_t s = 0; s < ids.size(); ++s)
+      dense_slot_[static_cast<std::size_t>(ids[s])] = static_cast<int>(s);
+    const auto grad_of = [&](std::size_t i, float* g) {
+      if (dense_slot_[i] < 0) {
+        std::fill(g, g + Rasterizer<float>::kParamGrads, 0.0f);  // culled: no gradient
+      } else {
+        raster_.slot_gradient(map, view.camera, static_cast<std::size_t>(dense_slot_[i]), g);
+      }
+      checked(i, g);
+    };
     adam_.step_fused(map, grad_of, ranges);
     blocks_.invalidate();  // momentum moved Gaussians outside the view too
   }
@@ -80,7 +97,8 @@ std::size_t MapOptimizer::remove(GaussianMap& map, const std::vector<char>& keep
 }
 
 std::size_t MapOptimizer::buffer_bytes() const {
-  return raster_.cache_bytes() + prune_keep_.capacity() + blocks_.bytes();
+  return raster_.cache_bytes() + prune_keep_.capacity() + blocks_.bytes() +
+         dense_slot_.capacity() * sizeof(int);
 }
 
 std::size_t MapOptimizer::view_bytes() const {

@@ -93,6 +93,7 @@ class MapOptimizer {
   RenderResult<float> render_;
   std::vector<float> v_color_, v_depth_;
   std::vector<char> prune_keep_;
+  std::vector<int> dense_slot_;  ///< per Gaussian, visible slot or -1: the dense step only
   MapBlocks blocks_;
   bool use_blocks_ = true;
   long iterations_ = 0;

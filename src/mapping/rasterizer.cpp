@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -37,6 +38,7 @@ Rasterizer<T>::Rasterizer(RasterSettings settings, rt::WorkerTeam* pool)
   simd_scratch_.resize(n);
   run_scratch_.resize(n);
   sort_keys_.resize(n);
+  projected_.resize(n);
 }
 
 template <class T>
@@ -54,10 +56,11 @@ namespace {
 /// the Gaussians that fail the opacity test or may_reach_image() (most of a large map's visible
 /// blocks), those tests decide exactly on the rest, and the covariance part of
 /// project_gaussian() runs eight at a time (projection_avx2.hpp). The same Projection as the
-/// scalar loop, bit for bit. Returns how many of [b, e) are visible.
+/// scalar loop, bit for bit. Writes the visible ones of [b, e) to out[0..] in id order and
+/// returns how many.
 int project_range_lanes(const GaussianParams<float>& g, const RenderCamera& cam,
                         const ProjectionCamera& pc, float near_m, float min_alpha,
-                        Projection<float>& proj, std::size_t b, std::size_t e) {
+                        ProjectedRecord<float>* out, std::size_t b, std::size_t e) {
   constexpr int kLanes = ProjectionLanes::kLanes;
   constexpr std::size_t kSpan = 256;  // Gaussians per candidate pass
   ProjectionLanes lanes;
@@ -74,21 +77,19 @@ int project_range_lanes(const GaussianParams<float>& g, const RenderCamera& cam,
     }
     project_lanes_avx2(pc, lanes, padded);
     for (int l = 0; l < n; ++l) {
-      const std::size_t i = ids[l];
-      proj.radius[i] = lanes.radius[l];
       if (lanes.radius[l] == 0) continue;
-      ++visible;
-      proj.mean2d[2 * i] = lanes.mean2d[0][l];
-      proj.mean2d[2 * i + 1] = lanes.mean2d[1][l];
-      for (int k = 0; k < 3; ++k) proj.conic[3 * i + k] = lanes.conic[k][l];
-      proj.depth[i] = lanes.depth[l];
+      ProjectedRecord<float>& r = out[visible++];
+      r.id = static_cast<int>(ids[l]);
+      r.p.radius = lanes.radius[l];
+      r.p.mean2d[0] = lanes.mean2d[0][l];
+      r.p.mean2d[1] = lanes.mean2d[1][l];
+      for (int k = 0; k < 3; ++k) r.p.conic[k] = lanes.conic[k][l];
+      r.p.depth = lanes.depth[l];
     }
     n = 0;
   };
   for (std::size_t span = b; span < e; span += kSpan) {
     const std::size_t span_end = std::min(e, span + kSpan);
-    std::fill(proj.radius.begin() + static_cast<std::ptrdiff_t>(span),
-              proj.radius.begin() + static_cast<std::ptrdiff_t>(span_end), 0);
     const int nc = cull_candidates_avx2(pc, near_m, logit_min, g.mean_w.data(), g.log_scale.data(),
                                         g.opacity_logit.data(), span, span_end, candidates);
     for (int c = 0; c < nc; ++c) {
@@ -114,10 +115,7 @@ template <class T>
 void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& cam,
                                 MapBlocks* blocks) {
   const std::size_t n = g.size();
-  resize_by_eighths(proj_.mean2d, 2 * n);  // the map grows a keyframe at a time
-  resize_by_eighths(proj_.conic, 3 * n);
-  resize_by_eighths(proj_.depth, n);
-  resize_by_eighths(proj_.radius, n);
+  for (ThreadRecords& t : projected_) t.used = 0;
   const T near_m = T(settings_.near_m), eps = T(settings_.eps2d_px2);
   // A Gaussian whose opacity is under min_alpha never reaches it at any pixel (both kernels
   // skip it: its sigma cut-off is negative), so culling it here renders exactly the same; this
@@ -131,32 +129,34 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
     if (lanes) pc = ProjectionCamera::from(cam, static_cast<float>(eps));
   }
 #endif
-  // Returns how many of [b, e) are visible.
-  auto project_range = [&](std::size_t b, std::size_t e) {
+  // Projects [b, e) into `member`'s records (room for all of them first, the visible ones
+  // kept): the unit's records, visible count and place.
+  auto project_range = [&](int member, std::size_t b, std::size_t e) {
+    ThreadRecords& mine = projected_[static_cast<std::size_t>(member)];
+    const std::size_t first = mine.used;
+    if (mine.records.size() < first + (e - b)) resize_by_eighths(mine.records, first + (e - b));
+    ProjectedRecord<T>* out = mine.records.data() + first;
+    int visible = 0;
 #if defined(VIGS_MAPPING_AVX2)
     if constexpr (std::is_same_v<T, float>) {
-      if (lanes) return project_range_lanes(g, cam, pc, near_m, min_alpha, proj_, b, e);
+      if (lanes) visible = project_range_lanes(g, cam, pc, near_m, min_alpha, out, b, e);
     }
+    if (!lanes) {
+#else
+    {
 #endif
-    ProjectedGaussian<T> pg;
-    int visible = 0;
-    for (std::size_t i = b; i < e; ++i) {
-      const T opacity = sigmoid(g.opacity_logit[i]);
-      if (opacity < min_alpha) {
-        proj_.radius[i] = 0;
-        continue;
+      ProjectedGaussian<T> pg;
+      for (std::size_t i = b; i < e; ++i) {
+        const T opacity = sigmoid(g.opacity_logit[i]);
+        if (opacity < min_alpha) continue;
+        project_gaussian(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i], near_m,
+                         eps, pg);
+        if (pg.radius == 0) continue;
+        out[visible++] = ProjectedRecord<T>{pg, static_cast<int>(i)};
       }
-      project_gaussian(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i], near_m, eps,
-                       pg);
-      proj_.radius[i] = pg.radius;
-      if (pg.radius == 0) continue;
-      ++visible;
-      proj_.mean2d[2 * i] = pg.mean2d[0];
-      proj_.mean2d[2 * i + 1] = pg.mean2d[1];
-      for (int k = 0; k < 3; ++k) proj_.conic[3 * i + k] = pg.conic[k];
-      proj_.depth[i] = pg.depth;
     }
-    return visible;
+    mine.used = first + static_cast<std::size_t>(visible);
+    return ProjectedUnit{b, e, visible, 0, member, first};
   };
   culled_blocks_ = 0;
   if constexpr (std::is_same_v<T, float>) {
@@ -165,13 +165,11 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
       const std::size_t nb = blocks->blocks();
       units_.resize(nb);
       // blocks claimed one at a time: the visible ones are usually a few neighbouring runs
-      run_claimed(nb, [&](int, std::size_t b) {
+      run_claimed(nb, [&](int member, std::size_t b) {
         const auto [lo, hi] = blocks->range(b);
-        const bool seen = blocks->may_be_visible(b, cam, settings_);
-        units_[b] = {lo, hi, seen ? project_range(lo, hi) : -1, 0};
-        if (!seen)
-          std::fill(proj_.radius.begin() + static_cast<std::ptrdiff_t>(lo),
-                    proj_.radius.begin() + static_cast<std::ptrdiff_t>(hi), 0);
+        units_[b] = blocks->may_be_visible(b, cam, settings_)
+                        ? project_range(member, lo, hi)
+                        : ProjectedUnit{lo, hi, -1, 0, member, 0};
       });
       for (const ProjectedUnit& u : units_) culled_blocks_ += u.visible < 0 ? 1 : 0;
       number_units();
@@ -179,9 +177,9 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
     }
   }
   units_.resize((n + kClaimChunk - 1) / kClaimChunk);
-  run_claimed(units_.size(), [&](int, std::size_t c) {
+  run_claimed(units_.size(), [&](int member, std::size_t c) {
     const std::size_t lo = c * kClaimChunk, hi = std::min(n, lo + kClaimChunk);
-    units_[c] = {lo, hi, project_range(lo, hi), 0};
+    units_[c] = project_range(member, lo, hi);
   });
   number_units();
 }
@@ -213,7 +211,7 @@ void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& ca
                             std::to_string(cam.height_px) +
                             " px view has more tiles per row or column than 16-bit tile "
                             "coordinates hold");
-  const std::size_t n = proj_.radius.size();
+  const std::size_t n = g.size();
   // A Gaussian's tiles: those its kernels can blend at all. A pixel contributes only where
   // sigma = d^T conic d / 2 <= sigma_cut (alpha >= min_alpha, tile_kernels.hpp), and that
   // ellipse reaches at most sqrt(2 sigma_cut Sigma_xx) across and sqrt(2 sigma_cut Sigma_yy)
@@ -225,18 +223,18 @@ void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& ca
   // Each visible Gaussian's kernel record (TileGaussian: the projection, colour, depth, the
   // kernels' sigma cut and reach for their row and run skip) is packed once per slot here, so
   // a tile's gather copies one record per pair instead of reading six arrays by Gaussian id.
-  auto rect_of = [&](std::size_t i, T rx, T ry, int& x0, int& y0, int& x1, int& y1) {
-    const T r = T(proj_.radius[i]);
+  auto rect_of = [&](const ProjectedGaussian<T>& p, T rx, T ry, int& x0, int& y0, int& x1,
+                     int& y1) {
+    const T r = T(p.radius);
     rx = std::min(r, rx);
     ry = std::min(r, ry);
-    const T u = proj_.mean2d[2 * i], v = proj_.mean2d[2 * i + 1];
+    const T u = p.mean2d[0], v = p.mean2d[1];
     x0 = std::max(0, static_cast<int>(std::floor((u - rx) / T(kTilePx))));
     y0 = std::max(0, static_cast<int>(std::floor((v - ry) / T(kTilePx))));
     x1 = std::min(tiles_x_ - 1, static_cast<int>(std::floor((u + rx) / T(kTilePx))));
     y1 = std::min(tiles_y_ - 1, static_cast<int>(std::floor((v + ry) / T(kTilePx))));
   };
   const auto n_vis = static_cast<std::size_t>(n_visible_);
-  resize_by_eighths(visible_slot_, n);
   resize_by_eighths(visible_ids_, n_vis);
   resize_by_eighths(packed_, n_vis);  // per visible Gaussian, not per Gaussian
   resize_by_eighths(slot_tiles_, 4 * n_vis);
@@ -244,37 +242,33 @@ void Rasterizer<T>::bin_tiles(const GaussianParams<T>& g, const RenderCamera& ca
   // Every pass below is claimed by whichever thread is free (units, then chunks of slots), and
   // none depends on which thread ran what: tile lists come out as a serial pass would make them.
   // 1. Per unit of projected Gaussians: slots, kernel reach and tile rectangle. Only the units
-  // the projection kept: a culled block's Gaussians have radius 0, and their visible_slot_
-  // entries are never read (every reader checks the radius first).
+  // the projection kept, each from its visible Gaussians' records.
   run_claimed(units_.size(), [&](int, std::size_t u) {
     const ProjectedUnit& unit = units_[u];
-    int slot = unit.first_slot;
-    for (std::size_t i = unit.lo; i < unit.hi; ++i) {
-      if (proj_.radius[i] == 0) {
-        visible_slot_[i] = -1;
-        continue;
-      }
-      const auto s = static_cast<std::size_t>(slot);
-      visible_ids_[s] = static_cast<int>(i);
-      visible_slot_[i] = slot++;
+    const ProjectedRecord<T>* records = this->records(unit);
+    for (int k = 0; k < unit.visible; ++k) {
+      const ProjectedGaussian<T>& p = records[k].p;
+      const auto i = static_cast<std::size_t>(records[k].id);
+      const auto s = static_cast<std::size_t>(unit.first_slot + k);
+      visible_ids_[s] = records[k].id;
       TileGaussian<T>& tg = packed_[s];
-      tg.x = proj_.mean2d[2 * i];
-      tg.y = proj_.mean2d[2 * i + 1];
-      tg.ca = proj_.conic[3 * i];
-      tg.cb = proj_.conic[3 * i + 1];
-      tg.cc = proj_.conic[3 * i + 2];
+      tg.x = p.mean2d[0];
+      tg.y = p.mean2d[1];
+      tg.ca = p.conic[0];
+      tg.cb = p.conic[1];
+      tg.cc = p.conic[2];
       tg.opacity = sigmoid(g.opacity_logit[i]);  // as the projection's cull computed it
       tg.r = g.color_rgb[3 * i];
       tg.g = g.color_rgb[3 * i + 1];
       tg.b = g.color_rgb[3 * i + 2];
-      tg.z = proj_.depth[i];
+      tg.z = p.depth;
       tg.sigma_cut = sigma_cutoff(tg.opacity, settings_.min_alpha);
       T rx = T(0), ry = T(0);
-      kernel_reach(&proj_.conic[3 * i], tg.sigma_cut, rx, ry);
+      kernel_reach(p.conic, tg.sigma_cut, rx, ry);
       tg.reach_x = settings_.skip_out_of_reach ? rx : std::numeric_limits<T>::infinity();
       tg.reach_y = settings_.skip_out_of_reach ? ry : std::numeric_limits<T>::infinity();
       int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-      rect_of(i, rx, ry, x0, y0, x1, y1);
+      rect_of(p, rx, ry, x0, y0, x1, y1);
       const bool any = x1 >= x0 && y1 >= y0;
       // 16-bit tile coordinates (checked above); an empty rectangle is stored as (0, 0, -1, -1)
       std::int16_t* rect = &slot_tiles_[4 * s];
@@ -488,12 +482,40 @@ void Rasterizer<T>::accumulate_gradients(const RenderCamera& cam, const RenderRe
 }
 
 template <class T>
+int Rasterizer<T>::slot_of(std::size_t i) const {
+  const auto end = visible_ids_.begin() + n_visible_;
+  const auto it = std::lower_bound(visible_ids_.begin(), end, static_cast<int>(i));
+  return it != end && *it == static_cast<int>(i) ? static_cast<int>(it - visible_ids_.begin()) : -1;
+}
+
+template <class T>
+std::optional<ProjectedGaussian<T>> Rasterizer<T>::projected(std::size_t i) const {
+  const int slot = slot_of(i);
+  if (slot < 0) return std::nullopt;
+  // the unit holding the slot: the last with first_slot <= slot
+  const auto unit =
+      std::prev(std::upper_bound(units_.begin(), units_.end(), slot,
+                                 [](int s, const ProjectedUnit& u) { return s < u.first_slot; }));
+  return records(*unit)[slot - unit->first_slot].p;
+}
+
+template <class T>
 void Rasterizer<T>::gaussian_gradient(const GaussianParams<T>& g, const RenderCamera& cam,
                                       std::size_t i, T out[kParamGrads]) const {
+  const int slot = slot_of(i);
+  if (slot < 0) {
+    for (int k = 0; k < kParamGrads; ++k) out[k] = T(0);
+    return;
+  }
+  slot_gradient(g, cam, static_cast<std::size_t>(slot), out);
+}
+
+template <class T>
+void Rasterizer<T>::slot_gradient(const GaussianParams<T>& g, const RenderCamera& cam,
+                                  std::size_t slot, T out[kParamGrads]) const {
   for (int k = 0; k < kParamGrads; ++k) out[k] = T(0);
-  if (proj_.radius[i] == 0) return;
+  const auto i = static_cast<std::size_t>(visible_ids_[slot]);
   T v[kGradPerGaussian] = {};
-  const auto slot = static_cast<std::size_t>(visible_slot_[i]);
   for (int k = slot_pairs_[slot]; k < slot_pairs_[slot + 1]; ++k) {
     const TileGrad<T>& s = pair_grad_[static_cast<std::size_t>(k)];
     v[0] += s.x;
@@ -533,12 +555,12 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
                              const RenderResult<T>& out, const T* v_color, const T* v_depth,
                              const T* v_alpha, GaussianParams<T>& grad) {
   accumulate_gradients(cam, out, v_color, v_depth, v_alpha);
-  const std::size_t n = g.size();
-  grad.assign_zero(n);
-  for_ranges(n, [&](std::size_t b, std::size_t e) {
+  grad.assign_zero(g.size());  // a culled Gaussian's gradient is zero
+  for_ranges(static_cast<std::size_t>(n_visible_), [&](std::size_t b, std::size_t e) {
     T v[kParamGrads];
-    for (std::size_t i = b; i < e; ++i) {
-      gaussian_gradient(g, cam, i, v);
+    for (std::size_t s = b; s < e; ++s) {
+      slot_gradient(g, cam, s, v);
+      const auto i = static_cast<std::size_t>(visible_ids_[s]);
       for (int k = 0; k < 3; ++k) {
         grad.mean_w[3 * i + k] = v[k];
         grad.log_scale[3 * i + k] = v[3 + k];
@@ -552,9 +574,9 @@ void Rasterizer<T>::backward(const GaussianParams<T>& g, const RenderCamera& cam
 
 template <class T>
 std::size_t Rasterizer<T>::cache_bytes() const {
-  std::size_t bytes = capacity_bytes(proj_.mean2d, proj_.conic, proj_.depth, proj_.radius,
-                                     tile_ids_, visible_slot_, visible_ids_, packed_, slot_tiles_,
-                                     slot_pairs_, pair_grad_, units_, chunk_tile_);
+  std::size_t bytes = capacity_bytes(tile_ids_, visible_ids_, packed_, slot_tiles_, slot_pairs_,
+                                     pair_grad_, units_, chunk_tile_);
+  for (const ThreadRecords& t : projected_) bytes += capacity_bytes(t.records);
   return bytes;
 }
 

@@ -9,12 +9,14 @@
 // not depend on the team's size.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "core/capacity_bytes.hpp"
 #include "mapping/gaussian_map.hpp"
 #include "mapping/map_blocks.hpp"
+#include "mapping/projection.hpp"
 #include "mapping/raster_settings.hpp"
 #include "mapping/render_camera.hpp"
 #include "mapping/tile_kernels.hpp"
@@ -37,13 +39,11 @@ struct RenderResult {
   }
 };
 
-/// Per-Gaussian projection cache of the last forward pass.
+/// One Gaussian the last forward pass did not cull, as it projected it, and its id in the map.
 template <class T>
-struct Projection {
-  std::vector<T> mean2d;    ///< 2 per Gaussian
-  std::vector<T> conic;     ///< 3 per Gaussian
-  std::vector<T> depth;     ///< 1 per Gaussian
-  std::vector<int> radius;  ///< 0 = culled
+struct ProjectedRecord {
+  ProjectedGaussian<T> p;
+  int id;
 };
 
 template <class T>
@@ -78,14 +78,23 @@ class Rasterizer {
                             const T* v_depth, const T* v_alpha);
   void gaussian_gradient(const GaussianParams<T>& g, const RenderCamera& cam, std::size_t i,
                          T out[kParamGrads]) const;
+  /// gaussian_gradient() of the Gaussian in visible slot `slot` (visible_ids()[slot]), without
+  /// looking the slot up: what the fused optimiser calls for each visible Gaussian.
+  void slot_gradient(const GaussianParams<T>& g, const RenderCamera& cam, std::size_t slot,
+                     T out[kParamGrads]) const;
 
   /// Runs fn(begin, end) over consecutive chunks of [0, n), each chunk claimed by whichever of
   /// the rasterizer's threads is free; fn must write only what its range owns.
   void for_ranges(std::size_t n, const std::function<void(std::size_t, std::size_t)>& fn);
 
-  [[nodiscard]] const Projection<T>& projection() const { return proj_; }
-  /// Ids of the Gaussians the last forward pass did not cull, ascending.
+  /// Gaussian i as the last forward pass projected it; empty when it was culled.
+  [[nodiscard]] std::optional<ProjectedGaussian<T>> projected(std::size_t i) const;
+  /// Ids of the Gaussians the last forward pass did not cull, ascending; a Gaussian's index
+  /// here is its visible slot.
   [[nodiscard]] const std::vector<int>& visible_ids() const { return visible_ids_; }
+  /// Gaussian i's visible slot in the last forward pass, or -1 (a binary search of
+  /// visible_ids(): for the dense optimiser and tests, not per pixel).
+  [[nodiscard]] int slot_of(std::size_t i) const;
   [[nodiscard]] std::size_t tile_pairs() const { return tile_ids_.size(); }
   /// Blocks the last forward pass culled whole (0 without blocks).
   [[nodiscard]] std::size_t culled_blocks() const { return culled_blocks_; }
@@ -93,11 +102,11 @@ class Rasterizer {
   /// backward's pair gradients: the cap guards the int offsets, not memory); more throws
   /// std::length_error naming the counts (bin_tiles sums in 64 bits).
   static constexpr std::int64_t kMaxTilePairs = std::int64_t{1} << 28;
-  /// Bytes held by this rasterizer's caches, from the current capacities: projection and
-  /// visible slots (per Gaussian), tile lists and backward's gradients (4 + 40 B per
-  /// Gaussian-tile pair in float), kernel record (52 B in float), tile rectangle and pair
-  /// offsets (per visible Gaussian). Not the per-tile offsets nor the per-thread tile scratch
-  /// (sized by the fullest tile, not by the map).
+  /// Bytes held by this rasterizer's caches, from the current capacities: tile lists and
+  /// backward's gradients (4 + 40 B per Gaussian-tile pair in float), projection record (32 B in
+  /// float, per thread's share), kernel record (52 B in float), id, tile rectangle and pair
+  /// offsets (per visible Gaussian). Nothing per Gaussian of the map. Not the per-tile offsets
+  /// nor the per-thread tile scratch (sized by the fullest tile, not by the map).
   [[nodiscard]] std::size_t cache_bytes() const;
   /// True when the last forward used SIMD kernels, AVX2 or AVX-512 (backward uses the same ones:
   /// blend_kernel()).
@@ -122,7 +131,17 @@ class Rasterizer {
 
   RasterSettings settings_;
   rt::WorkerTeam* pool_;
-  Projection<T> proj_;
+  /// Per thread: the projection records of the units it projected, each unit's visible
+  /// Gaussians together in id order (ProjectedUnit says where). Only what a view sees is kept:
+  /// a cache per Gaussian of the map (28 B, and 4 B of visible slot) was 14 % of the live
+  /// mapper's bytes per Gaussian on a map of a million, for the tenth of it one view sees.
+  /// `used` of them hold this pass's records; the rest is room kept (growing records only when
+  /// a pass needs more, so a pass writes only what it projects). One cache line per thread.
+  struct alignas(64) ThreadRecords {
+    std::vector<ProjectedRecord<T>> records;
+    std::size_t used = 0;
+  };
+  std::vector<ThreadRecords> projected_;
   int tiles_x_ = 0, tiles_y_ = 0;
   std::vector<int> tile_offsets_;  ///< tiles + 1
   std::vector<int> tile_ids_;      ///< visible slots per tile, near to far
@@ -130,7 +149,6 @@ class Rasterizer {
   std::vector<int> chunk_tile_;
   std::vector<std::vector<TileGaussian<T>>> gather_;  ///< per thread
   std::vector<std::vector<TileGrad<T>>> tile_grad_;   ///< per thread, one tile's gradients
-  std::vector<int> visible_slot_;  ///< per Gaussian: index among the visible ones, or -1
   int n_visible_ = 0;
   std::vector<int> visible_ids_;  ///< slot -> Gaussian id
   /// per visible slot: its kernel record (projection, colour, depth, sigma cut, reach), which a
@@ -154,7 +172,13 @@ class Rasterizer {
     std::size_t lo, hi;
     int visible;  ///< -1: a block culled whole
     int first_slot;
+    int member;          ///< the thread whose projected_ holds its records
+    std::size_t record;  ///< its first record there
   };
+  /// The records of unit u (visible of them, in id order).
+  [[nodiscard]] const ProjectedRecord<T>* records(const ProjectedUnit& u) const {
+    return projected_[static_cast<std::size_t>(u.member)].records.data() + u.record;
+  }
   std::vector<ProjectedUnit> units_;
 };
 

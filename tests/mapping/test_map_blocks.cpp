@@ -68,7 +68,10 @@ void expect_same_render(const GaussianMap& g, const RenderCamera& cam, MapBlocks
   RenderResult<float> a, b;
   with.forward(g, cam, a, &blocks);
   without.forward(g, cam, b);
-  ASSERT_EQ(with.projection().radius, without.projection().radius);
+  ASSERT_EQ(with.visible_ids(), without.visible_ids());
+  for (const int i : with.visible_ids())
+    ASSERT_EQ(with.projected(static_cast<std::size_t>(i))->radius,
+              without.projected(static_cast<std::size_t>(i))->radius);
   EXPECT_EQ(a.color, b.color);
   EXPECT_EQ(a.depth, b.depth);
   EXPECT_EQ(a.final_T, b.final_T);

@@ -156,7 +156,7 @@ TEST(MappingOptimize, ANanColourNeitherSpreadsNorSurvivesThePrune) {
   // the most opaque Gaussian in view goes bad
   std::size_t bad = truth.size();
   for (std::size_t i = 0; i < truth.size(); ++i)
-    if (ras.projection().radius[i] > 0 &&
+    if (ras.projected(i).has_value() &&
         (bad == truth.size() || truth.opacity_logit[i] > truth.opacity_logit[bad]))
       bad = i;
   ASSERT_LT(bad, truth.size());

@@ -62,7 +62,8 @@ void check_closed_form(double theta, double sx, double sy, double opacity,
   const double ca = d / det, cb = -b / det, cc = a / det;
   const double mid = 0.5 * (a + d);
   const int radius = static_cast<int>(std::ceil(3 * std::sqrt(mid + std::sqrt(mid * mid - det))));
-  EXPECT_EQ(ras.projection().radius[0], radius);
+  ASSERT_TRUE(ras.projected(0).has_value());
+  EXPECT_EQ(ras.projected(0)->radius, radius);
   int lit = 0;
   for (int v = 0; v < H; ++v) {
     for (int u = 0; u < W; ++u) {
