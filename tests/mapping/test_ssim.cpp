@@ -21,6 +21,31 @@ namespace {
 
 const std::string kImages = std::string(VIGS_SHARED_DATA_DIR) + "/images/";
 
+/// kodim10 and its sigma-20 noisy copy as RGB floats in [0, 1], and a mask that leaves out every
+/// fourth run of 37 pixels: the inputs of the tests that compare SSIM's implementations.
+struct NoisyPair {
+  std::vector<float> x, y, mask;
+  int width = 0, height = 0;
+};
+
+const NoisyPair& noisy_pair() {
+  static const NoisyPair pair = [] {
+    const auto a = io::read_image_u8(kImages + "kodim10.png");
+    const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
+    NoisyPair p;
+    p.width = a.width;
+    p.height = a.height;
+    p.x.resize(a.data.size());
+    p.y.resize(b.data.size());
+    for (std::size_t i = 0; i < p.x.size(); ++i) p.x[i] = a.data[i] / 255.0f;
+    for (std::size_t i = 0; i < p.y.size(); ++i) p.y[i] = b.data[i] / 255.0f;
+    p.mask.resize(static_cast<std::size_t>(a.width) * a.height);
+    for (std::size_t i = 0; i < p.mask.size(); ++i) p.mask[i] = (i / 37) % 4 == 0 ? 0.0f : 1.0f;
+    return p;
+  }();
+  return pair;
+}
+
 TEST(MappingSsim, CameraUniform7SampleCovarianceMatchesScikitImage) {
   const auto a = io::read_image_u8(kImages + "camera.png");
   const auto b = io::read_image_u8(kImages + "camera_noisy.png");
@@ -64,13 +89,7 @@ TEST(MappingSsim, IdenticalImagesAndBadInput) {
 // sample covariance), with and without a mask; 768 px rows leave a partial last step of lanes.
 TEST(MappingSsim, Avx2KernelsMatchThePlainLoopsInFloat) {
   if (!avx2_kernel_available()) GTEST_SKIP() << "no AVX2 on this CPU/architecture";
-  const auto a = io::read_image_u8(kImages + "kodim10.png");
-  const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
-  std::vector<float> x(a.data.size()), y(b.data.size());
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.data[i] / 255.0f;
-  for (std::size_t i = 0; i < y.size(); ++i) y[i] = b.data[i] / 255.0f;
-  std::vector<float> mask(static_cast<std::size_t>(a.width) * a.height);
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = (i / 37) % 4 == 0 ? 0.0f : 1.0f;
+  const auto& [x, y, mask, width, height] = noisy_pair();
   for (const auto& [window, sample] :
        {std::pair{SsimWindow::kGaussian11, false}, std::pair{SsimWindow::kUniform7, true}}) {
     const float* const masks[] = {nullptr, mask.data()};
@@ -80,8 +99,8 @@ TEST(MappingSsim, Avx2KernelsMatchThePlainLoopsInFloat) {
       plain_options.use_simd = false;
       Ssim<float> simd(simd_options), plain(plain_options);
       std::vector<float> gs(x.size()), gp(x.size());
-      const float vs = simd.evaluate(x.data(), y.data(), a.width, a.height, 3, m, gs.data());
-      const float vp = plain.evaluate(x.data(), y.data(), a.width, a.height, 3, m, gp.data());
+      const float vs = simd.evaluate(x.data(), y.data(), width, height, 3, m, gs.data());
+      const float vp = plain.evaluate(x.data(), y.data(), width, height, 3, m, gp.data());
       EXPECT_NEAR(vs, vp, 1e-5f);
       if (!m && window == SsimWindow::kGaussian11) {
         EXPECT_NEAR(vs, 0.7857f, 1e-3f);
@@ -124,17 +143,13 @@ TEST(MappingSsim, Avx512FiltersGiveTheAvx2Bits) {
         ASSERT_NEAR(o512[static_cast<std::size_t>(i)], plain[static_cast<std::size_t>(i)], 1e-5f);
     }
   }
-  const auto a = io::read_image_u8(kImages + "kodim10.png");
-  const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
-  std::vector<float> x(a.data.size()), y(b.data.size());
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.data[i] / 255.0f;
-  for (std::size_t i = 0; i < y.size(); ++i) y[i] = b.data[i] / 255.0f;
+  const auto& [x, y, mask, width, height] = noisy_pair();
   SsimOptions avx2_options;
   avx2_options.use_avx512 = false;
   Ssim<float> wide, narrow(avx2_options);
   std::vector<float> gw(x.size()), gn(x.size());
-  const float vw = wide.evaluate(x.data(), y.data(), a.width, a.height, 3, nullptr, gw.data());
-  const float vn = narrow.evaluate(x.data(), y.data(), a.width, a.height, 3, nullptr, gn.data());
+  const float vw = wide.evaluate(x.data(), y.data(), width, height, 3, nullptr, gw.data());
+  const float vn = narrow.evaluate(x.data(), y.data(), width, height, 3, nullptr, gn.data());
   EXPECT_EQ(vw, vn);
   EXPECT_EQ(gw, gn);
 }
@@ -143,36 +158,28 @@ TEST(MappingSsim, Avx512FiltersGiveTheAvx2Bits) {
 // evaluate_add_gradient() adds weight times that gradient to what the buffer holds, to the bit.
 // With no window on, SSIM is 1, evaluate() writes zeros and the sum is left as it was.
 TEST(MappingSsim, GradientAddedInPlaceIsTheWeightedGradient) {
-  const auto a = io::read_image_u8(kImages + "kodim10.png");
-  const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
-  std::vector<float> x(a.data.size()), y(b.data.size());
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.data[i] / 255.0f;
-  for (std::size_t i = 0; i < y.size(); ++i) y[i] = b.data[i] / 255.0f;
-  std::vector<float> mask(static_cast<std::size_t>(a.width) * a.height);
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = (i / 37) % 4 == 0 ? 0.0f : 1.0f;
+  const auto& [x, y, mask, width, height] = noisy_pair();
   const float kNan = std::numeric_limits<float>::quiet_NaN();
   Ssim<float> ssim;
   std::vector<float> fresh(x.size(), 0.0f), stale(x.size(), kNan);
-  const float v =
-      ssim.evaluate(x.data(), y.data(), a.width, a.height, 3, mask.data(), fresh.data());
-  EXPECT_EQ(ssim.evaluate(x.data(), y.data(), a.width, a.height, 3, mask.data(), stale.data()), v);
+  const float v = ssim.evaluate(x.data(), y.data(), width, height, 3, mask.data(), fresh.data());
+  EXPECT_EQ(ssim.evaluate(x.data(), y.data(), width, height, 3, mask.data(), stale.data()), v);
   EXPECT_EQ(stale, fresh);
   std::vector<float> sum(x.size());
   for (std::size_t i = 0; i < sum.size(); ++i) sum[i] = 0.001f * static_cast<float>(i % 97);
   const std::vector<float> before = sum;
   const float weight = -0.2f;
-  EXPECT_EQ(ssim.evaluate_add_gradient(x.data(), y.data(), a.width, a.height, 3, mask.data(),
+  EXPECT_EQ(ssim.evaluate_add_gradient(x.data(), y.data(), width, height, 3, mask.data(),
                                        sum.data(), weight),
             v);
   for (std::size_t i = 0; i < sum.size(); ++i)
     ASSERT_EQ(sum[i], before[i] + weight * fresh[i]) << "element " << i;
   const std::vector<float> off(mask.size(), 0.0f);
   std::fill(stale.begin(), stale.end(), kNan);
-  EXPECT_EQ(ssim.evaluate(x.data(), y.data(), a.width, a.height, 3, off.data(), stale.data()),
-            1.0f);
+  EXPECT_EQ(ssim.evaluate(x.data(), y.data(), width, height, 3, off.data(), stale.data()), 1.0f);
   for (const float g : stale) ASSERT_EQ(g, 0.0f);
   std::vector<float> kept = before;
-  EXPECT_EQ(ssim.evaluate_add_gradient(x.data(), y.data(), a.width, a.height, 3, off.data(),
+  EXPECT_EQ(ssim.evaluate_add_gradient(x.data(), y.data(), width, height, 3, off.data(),
                                        kept.data(), weight),
             1.0f);
   EXPECT_EQ(kept, before);
@@ -181,24 +188,18 @@ TEST(MappingSsim, GradientAddedInPlaceIsTheWeightedGradient) {
 // Rows go in blocks to whichever thread is free and the mean is summed per block in block order:
 // the value and the gradient do not depend on the team's size, with or without a mask.
 TEST(MappingSsim, AnyTeamSizeGivesTheSameBits) {
-  const auto a = io::read_image_u8(kImages + "kodim10.png");
-  const auto b = io::read_image_u8(kImages + "simga_20_ssim_0.7857.png");
-  std::vector<float> x(a.data.size()), y(b.data.size());
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.data[i] / 255.0f;
-  for (std::size_t i = 0; i < y.size(); ++i) y[i] = b.data[i] / 255.0f;
-  std::vector<float> mask(static_cast<std::size_t>(a.width) * a.height);
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = (i / 37) % 4 == 0 ? 0.0f : 1.0f;
+  const auto& [x, y, mask, width, height] = noisy_pair();
   const float* const masks[] = {nullptr, mask.data()};
   for (const float* m : masks) {
     Ssim<float> one;
     std::vector<float> g1(x.size());
-    const float v1 = one.evaluate(x.data(), y.data(), a.width, a.height, 3, m, g1.data());
+    const float v1 = one.evaluate(x.data(), y.data(), width, height, 3, m, g1.data());
     for (const int members : {2, 3}) {
       rt::WorkerTeam pool(members);
       Ssim<float> many(SsimOptions{}, &pool);
       std::vector<float> gm(x.size());
       for (int round = 0; round < 2; ++round) {
-        const float vm = many.evaluate(x.data(), y.data(), a.width, a.height, 3, m, gm.data());
+        const float vm = many.evaluate(x.data(), y.data(), width, height, 3, m, gm.data());
         ASSERT_EQ(v1, vm) << members;
         ASSERT_EQ(g1, gm) << members;
       }
