@@ -39,16 +39,22 @@ void MapBlocks::compute(const GaussianMap& map, std::size_t b) {
   out.sigma_m = std::exp(double{max_log_scale}) * 1.001;
 }
 
-void MapBlocks::update(const GaussianMap& map) {
+void MapBlocks::update(const GaussianMap& map, rt::WorkerTeam* team) {
   const std::size_t n = map.size();
   const std::size_t nb = (n + kBlock - 1) / kBlock;
   std::size_t first_new = n_ / kBlock;  // the block that held the old end may have grown
   if (!valid_ || n < n_) first_new = 0;
   bounds_.resize(nb);
   dirty_.resize(nb, 0);
+  todo_.clear();
   for (std::size_t b = 0; b < std::min(first_new, nb); ++b)
-    if (any_dirty_ && dirty_[b]) compute(map, b);
-  for (std::size_t b = first_new; b < nb; ++b) compute(map, b);
+    if (any_dirty_ && dirty_[b]) todo_.push_back(b);
+  for (std::size_t b = first_new; b < nb; ++b) todo_.push_back(b);
+  if (team && todo_.size() > 1) {
+    team->run_claimed(todo_.size(), [&](int, std::size_t k) { compute(map, todo_[k]); });
+  } else {
+    for (const std::size_t b : todo_) compute(map, b);
+  }
   std::fill(dirty_.begin(), dirty_.end(), 0);
   any_dirty_ = false;
   n_ = n;

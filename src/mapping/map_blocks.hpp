@@ -20,6 +20,7 @@
 #include "mapping/gaussian_map.hpp"
 #include "mapping/raster_settings.hpp"
 #include "mapping/render_camera.hpp"
+#include "rt/worker_team.hpp"
 
 namespace vigs::mapping {
 
@@ -28,8 +29,10 @@ class MapBlocks {
   static constexpr std::size_t kBlock = 1024;  ///< Gaussians per block
 
   /// Brings the bounds up to date with `map`: blocks marked changed, blocks past the last
-  /// update's size (appended), or all of them after invalidate() or when the map shrank.
-  void update(const GaussianMap& map);
+  /// update's size (appended), or all of them after invalidate() or when the map shrank. With
+  /// `team` its members claim the blocks (each block's bound is its own, so the bounds are the
+  /// same): after a prune's compaction every block of a map of a million is recomputed.
+  void update(const GaussianMap& map, rt::WorkerTeam* team = nullptr);
   /// Gaussians whose mean or scale changed since the last update (any order).
   void mark_changed(const std::vector<int>& ids);
   /// Everything is recomputed at the next update (after a compaction or a load).
@@ -46,7 +49,7 @@ class MapBlocks {
     return {begin, std::min(n_, begin + kBlock)};
   }
   [[nodiscard]] std::size_t gaussians() const { return n_; }
-  [[nodiscard]] std::size_t bytes() const { return capacity_bytes(bounds_, dirty_); }
+  [[nodiscard]] std::size_t bytes() const { return capacity_bytes(bounds_, dirty_, todo_); }
 
  private:
   struct Bound {
@@ -57,8 +60,9 @@ class MapBlocks {
   void compute(const GaussianMap& map, std::size_t b);
 
   std::vector<Bound> bounds_;
-  std::vector<char> dirty_;  ///< per block
-  std::size_t n_ = 0;        ///< map size at the last update
+  std::vector<char> dirty_;        ///< per block
+  std::vector<std::size_t> todo_;  ///< the blocks an update recomputes
+  std::size_t n_ = 0;              ///< map size at the last update
   bool valid_ = false;
   bool any_dirty_ = false;
 };

@@ -161,7 +161,7 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
   culled_blocks_ = 0;
   if constexpr (std::is_same_v<T, float>) {
     if (blocks) {
-      blocks->update(g);
+      blocks->update(g, pool_);
       const std::size_t nb = blocks->blocks();
       units_.resize(nb);
       // blocks claimed one at a time: the visible ones are usually a few neighbouring runs

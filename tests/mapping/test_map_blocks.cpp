@@ -97,6 +97,43 @@ TEST(MapBlocks, RendersExactlyWhatEveryGaussianProjectedRenders) {
   }
 }
 
+// With a team, whichever member claims a block computes its bound: the same bounds, so the same
+// cull for every block and camera, at the first update, after a block moved and after a
+// compaction's invalidate().
+TEST(MapBlocks, ATeamComputesTheSameBounds) {
+  GaussianMap g = clustered_map(60, 11);
+  rt::WorkerTeam team(2);
+  MapBlocks serial, shared;
+  const RasterSettings rs;
+  const std::vector<RenderCamera> cams = cameras(40, 13);
+  const auto expect_same_cull = [&] {
+    serial.update(g);
+    shared.update(g, &team);
+    ASSERT_EQ(serial.blocks(), shared.blocks());
+    std::size_t culled = 0;
+    for (const RenderCamera& cam : cams) {
+      for (std::size_t b = 0; b < serial.blocks(); ++b) {
+        const bool seen = serial.may_be_visible(b, cam, rs);
+        ASSERT_EQ(seen, shared.may_be_visible(b, cam, rs)) << "block " << b;
+        culled += seen ? 0 : 1;
+      }
+    }
+    EXPECT_GT(culled, 0u);
+  };
+  expect_same_cull();
+  std::vector<int> moved;  // block 5 moves 4 m
+  for (std::size_t i = 5 * MapBlocks::kBlock; i < 6 * MapBlocks::kBlock; ++i) {
+    g.mean_w[3 * i] += 4.0f;
+    moved.push_back(static_cast<int>(i));
+  }
+  serial.mark_changed(moved);
+  shared.mark_changed(moved);
+  expect_same_cull();
+  serial.invalidate();
+  shared.invalidate();
+  expect_same_cull();
+}
+
 TEST(MapBlocks, StayTrueWhileTheOptimiserMovesPrunesAndTheMapGrows) {
   GaussianMap g = clustered_map(80, 7, true);
   config::MappingSettings s;
