@@ -13,6 +13,7 @@ RenderCamera half_res_camera(const RenderCamera& full) {
   c.fy_px = full.fy_px / 2.0;
   c.cx_px = (full.cx_px - 0.5) / 2.0;
   c.cy_px = (full.cy_px - 0.5) / 2.0;
+  c.pixel_size = 2.0 * full.pixel_size;
   return c;
 }
 

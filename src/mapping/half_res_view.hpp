@@ -10,7 +10,8 @@
 //   block is valid; -1 (moving, masked) when any pixel of the block is masked moving;
 // - camera: half the focal lengths, and the principal point moved so that pixel centres stay at
 //   integer coordinates: the half-resolution pixel j covers full pixels 2j and 2j + 1, whose
-//   centre is 2j + 0.5, so cx_half = (cx - 0.5) / 2.
+//   centre is 2j + 0.5, so cx_half = (cx - 0.5) / 2; pixels twice the size (pixel_size), so the
+//   rasterizer's low-pass filter is a quarter as many of them and blurs as much of the scene.
 // An odd last row or column is dropped (a full-resolution view of W x H gives W/2 x H/2).
 #include <vector>
 

@@ -92,7 +92,8 @@ bool MapBlocks::may_be_visible(std::size_t b, const RenderCamera& cam,
   const double ly = 1.3 * 0.5 * cam.height_px / cam.fy_px;
   const double g =
       std::sqrt(cam.fx_px * cam.fx_px * (1 + lx * lx) + cam.fy_px * cam.fy_px * (1 + ly * ly));
-  const double p = 3.0 * std::sqrt(rs.eps2d_px2 + 0.32) + 1.0 + 2.0;  // + 2 px of slack
+  const double p =
+      3.0 * std::sqrt(cam.lowpass_px2(rs.eps2d_px2) + 0.32) + 1.0 + 2.0;  // + 2 px of slack
   auto outside = [&](double along, double slope, double f) {
     // plane along = slope * z, unit normal (1, -slope) / sqrt(1 + slope^2) in (along, z)
     const double dist = (along - slope * z) / std::sqrt(1.0 + slope * slope);

@@ -8,7 +8,8 @@ inline constexpr int kTilePx = 16;  ///< square tiles, per-tile depth order
 
 struct RasterSettings {
   double near_m = 0.01;             ///< Gaussians nearer than this are culled
-  double eps2d_px2 = 0.3;           ///< low-pass added to the 2D covariance
+  double eps2d_px2 = 0.3;           ///< low-pass added to the 2D covariance, in sensor pixels^2
+                                    ///< (RenderCamera::lowpass_px2 scales it per resolution)
   double min_alpha = 1.0 / 255.0;   ///< contributions below this are skipped
   double max_alpha = 0.99;          ///< alpha clamp
   double min_transmittance = 1e-4;  ///< a pixel stops once T would fall to this

@@ -116,7 +116,7 @@ void Rasterizer<T>::project_all(const GaussianParams<T>& g, const RenderCamera& 
                                 MapBlocks* blocks) {
   const std::size_t n = g.size();
   for (ThreadRecords& t : projected_) t.used = 0;
-  const T near_m = T(settings_.near_m), eps = T(settings_.eps2d_px2);
+  const T near_m = T(settings_.near_m), eps = T(cam.lowpass_px2(settings_.eps2d_px2));
   // A Gaussian whose opacity is under min_alpha never reaches it at any pixel (both kernels
   // skip it: its sigma cut-off is negative), so culling it here renders exactly the same; this
   // is how a removed-but-not-yet-compacted Gaussian (kRemovedLogit) leaves the render at once.
@@ -530,7 +530,8 @@ void Rasterizer<T>::slot_gradient(const GaussianParams<T>& g, const RenderCamera
     v[9] += s.z;
   }
   project_gaussian_vjp(cam, &g.mean_w[3 * i], &g.log_scale[3 * i], &g.quat_wxyz[4 * i],
-                       T(settings_.eps2d_px2), &v[0], &v[2], v[9], &out[0], &out[3], &out[6]);
+                       T(cam.lowpass_px2(settings_.eps2d_px2)), &v[0], &v[2], v[9], &out[0],
+                       &out[3], &out[6]);
   const T op = packed_[slot].opacity;
   out[10] = v[5] * op * (T(1) - op);
   for (int k = 0; k < 3; ++k) out[11 + k] = v[6 + k];

@@ -14,6 +14,18 @@ struct RenderCamera {
   double fx_px = 0, fy_px = 0, cx_px = 0, cy_px = 0;
   double R_c_w[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  ///< row-major rotation world -> camera
   double t_c_w[3] = {0, 0, 0};                    ///< translation world -> camera, metres
+  /// Edge of this camera's pixel in pixels of the sensor's camera it stands for: 1 at the
+  /// sensor's resolution, 2 one pyramid level down (half_res_camera). The rasterizer's
+  /// low-pass filter is set in sensor pixels (RasterSettings::eps2d_px2) and is divided by the
+  /// square of this, so that it blurs a Gaussian by the same amount in the scene at every
+  /// resolution: a Gaussian trained at half resolution then covers at full resolution what it
+  /// covered in training (BENCHMARKS.md, thirty-eighth session).
+  double pixel_size = 1.0;
+
+  /// The low-pass filter's variance in this camera's pixels^2, for one of `sensor_px2`.
+  [[nodiscard]] double lowpass_px2(double sensor_px2) const {
+    return sensor_px2 / (pixel_size * pixel_size);
+  }
 
   static RenderCamera from(const PinholeCamera& k, const Eigen::Isometry3d& T_w_c) {
     RenderCamera c;

@@ -62,8 +62,9 @@ void check_all(Params g, const std::function<double(const Params&)>& loss, const
   }
 }
 
-TEST(MappingGradients, RenderOutputsLinearFunctional) {
-  const RenderCamera cam = test::small_camera(40, 34, 40.0);
+/// Checks a random linear functional of colour, depth and accumulated opacity rendered from
+/// `cam` (40 x 34 px).
+void check_render_outputs(const RenderCamera& cam) {
   const Params g0 = test::random_gaussians<double>(6, 7);
   const std::size_t np = 40 * 34;
   std::mt19937 rng(3);
@@ -91,6 +92,18 @@ TEST(MappingGradients, RenderOutputsLinearFunctional) {
   Params grad;
   ras.backward(g0, cam, r, wc.data(), wd.data(), wa.data(), grad);
   check_all(g0, loss, grad, 1e-5);
+}
+
+TEST(MappingGradients, RenderOutputsLinearFunctional) {
+  check_render_outputs(test::small_camera(40, 34, 40.0));
+}
+
+TEST(MappingGradients, RenderOutputsLinearFunctionalWithCoarserPixels) {
+  // a camera one pyramid level down blurs by a quarter of the low-pass in its own pixels; the
+  // backward pass must differentiate the same filter as the forward pass
+  RenderCamera cam = test::small_camera(40, 34, 40.0);
+  cam.pixel_size = 2.0;
+  check_render_outputs(cam);
 }
 
 TEST(MappingGradients, FullLossWithSsimAndDepth) {

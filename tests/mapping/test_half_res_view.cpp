@@ -1,9 +1,11 @@
 // The half-resolution training view (mapping/half_res_view.hpp): its camera keeps pixel centres
 // where the full view's 2x2 blocks have theirs (a render at half resolution is the full render
-// box-averaged), colour is the block mean, depth the block's near surface, masks propagate.
+// box-averaged), colour is the block mean, depth the block's near surface, masks propagate; the
+// low-pass filter blurs as much of the scene at both resolutions.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "mapping/half_res_view.hpp"
 #include "mapping/rasterizer.hpp"
@@ -58,6 +60,46 @@ TEST(HalfResView, RenderAtHalfResolutionIsTheFullRenderBoxAveraged) {
               psnr, psnr_shifted);
   EXPECT_GT(psnr, 50.0);  // cx / 2 instead of (cx - 0.5) / 2 gives about 44 dB
   EXPECT_GT(psnr, psnr_shifted + 3.0);
+}
+
+/// Sum of a render's opacity over its pixels, in pixels of the sensor's camera (`area_px` each).
+double covered_sensor_px2(const RenderResult<float>& r, double area_px2) {
+  double sum = 0.0;
+  for (int p = 0; p < r.width * r.height; ++p) sum += r.alpha(p);
+  return sum * area_px2;
+}
+
+TEST(HalfResView, AGaussianCoversTheSameAreaOfTheSceneAtHalfResolution) {
+  // One Gaussian of about a pixel (standard deviation 1 px at full resolution) alone in view:
+  // its accumulated opacity summed over the image is o 2 pi sqrt(det(Sigma_2D + lowpass I)), in
+  // the render's pixels^2. The low-pass filter blurs by 0.3 sensor px^2 at both resolutions,
+  // so in sensor pixels the two areas agree; with 0.3 half-resolution px^2 (1.2 sensor px^2,
+  // what the coarse iterations used before) the half render covers 30 % more, and a Gaussian
+  // fitted there shrinks at full resolution.
+  const RenderCamera full = test::small_camera(64, 48, 60.0);
+  const RenderCamera half = half_res_camera(full);
+  EXPECT_DOUBLE_EQ(half.pixel_size, 2.0);
+  EXPECT_DOUBLE_EQ(half.lowpass_px2(0.3), 0.075);
+  const double s_m = 2.0 / 60.0;  // 1 px at 2 m
+  const Eigen::Vector3d p_w = full.T_w_c() * Eigen::Vector3d(0.03, -0.02, 2.0);
+  GaussianMap g;
+  g.resize(1);
+  for (int k = 0; k < 3; ++k) {
+    g.mean_w[k] = static_cast<float>(p_w[k]);
+    g.log_scale[k] = static_cast<float>(std::log(s_m));
+    g.color_rgb[k] = 1.0f;
+  }
+  g.quat_wxyz = {1.0f, 0.0f, 0.0f, 0.0f};
+  g.opacity_logit[0] = std::log(0.2f / 0.8f);  // 0.2: no alpha clamp at the centre
+  Rasterizer<float> ras;
+  RenderResult<float> r_full, r_half;
+  ras.forward(g, full, r_full);
+  ras.forward(g, half, r_half);
+  const double a_full = covered_sensor_px2(r_full, 1.0);
+  const double a_half = covered_sensor_px2(r_half, 4.0);
+  std::printf("covered: %.3f sensor px^2 at full resolution, %.3f at half\n", a_full, a_half);
+  EXPECT_GT(a_full, 1.0);
+  EXPECT_NEAR(a_half / a_full, 1.0, 0.03);
 }
 
 TEST(HalfResView, ColourIsTheBlockMeanDepthTheNearSurfaceMasksPropagate) {
