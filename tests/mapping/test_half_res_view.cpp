@@ -62,11 +62,12 @@ TEST(HalfResView, RenderAtHalfResolutionIsTheFullRenderBoxAveraged) {
   EXPECT_GT(psnr, psnr_shifted + 3.0);
 }
 
-/// Sum of a render's opacity over its pixels, in pixels of the sensor's camera (`area_px` each).
-double covered_sensor_px2(const RenderResult<float>& r, double area_px2) {
+/// Sum of a render's opacity over its pixels, in pixels^2 of the sensor's camera (each of the
+/// render's pixels covers cam.pixel_size^2 of them).
+double covered_sensor_px2(const RenderResult<float>& r, const RenderCamera& cam) {
   double sum = 0.0;
   for (int p = 0; p < r.width * r.height; ++p) sum += r.alpha(p);
-  return sum * area_px2;
+  return sum * cam.pixel_size * cam.pixel_size;
 }
 
 TEST(HalfResView, AGaussianCoversTheSameAreaOfTheSceneAtHalfResolution) {
@@ -95,8 +96,8 @@ TEST(HalfResView, AGaussianCoversTheSameAreaOfTheSceneAtHalfResolution) {
   RenderResult<float> r_full, r_half;
   ras.forward(g, full, r_full);
   ras.forward(g, half, r_half);
-  const double a_full = covered_sensor_px2(r_full, 1.0);
-  const double a_half = covered_sensor_px2(r_half, 4.0);
+  const double a_full = covered_sensor_px2(r_full, full);
+  const double a_half = covered_sensor_px2(r_half, half);
   std::printf("covered: %.3f sensor px^2 at full resolution, %.3f at half\n", a_full, a_half);
   EXPECT_GT(a_full, 1.0);
   EXPECT_NEAR(a_half / a_full, 1.0, 0.03);
