@@ -21,6 +21,11 @@ void Adam::grow(std::size_t n) {
   };
   zero_tail(m_);
   zero_tail(v_);
+  last_step_.resize(n, static_cast<std::uint32_t>(step_));
+}
+
+void Adam::mark_all_stepped() {
+  std::fill(last_step_.begin(), last_step_.end(), static_cast<std::uint32_t>(step_));
 }
 
 Adam::Coeffs Adam::begin_step() {
@@ -54,10 +59,11 @@ void Adam::step(GaussianMap& params, const GaussianMap& grad) {
     g[10] = grad.opacity_logit[i];
     update_gaussian(params, i, g, c);
   }
+  mark_all_stepped();
 }
 
 std::size_t Adam::bytes() const {
-  return m_.capacity_bytes() + v_.capacity_bytes();
+  return m_.capacity_bytes() + v_.capacity_bytes() + last_step_.capacity() * sizeof(std::uint32_t);
 }
 
 }  // namespace vigs::mapping

@@ -16,7 +16,7 @@ namespace vigs::mapping {
 struct MapperMemory {
   std::size_t gaussians = 0;           ///< map size when measured
   std::size_t map_params_bytes = 0;    ///< GaussianMap parameter arrays, anchors and far flags
-  std::size_t adam_moments_bytes = 0;  ///< Adam first and second moments
+  std::size_t adam_moments_bytes = 0;  ///< Adam first and second moments, last step per Gaussian
   /// The optimiser's rasterizer caches: projection, tile lists, per-pair gradients
   /// (not the per-thread tile scratch), and the optimiser's prune mask.
   std::size_t optimizer_buffers_bytes = 0;
