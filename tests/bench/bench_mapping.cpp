@@ -10,6 +10,8 @@
 // (an 8 x 2 pixel block per vector, when the CPU has them) against the AVX2 ones (8 pixels of a
 // row); BM_OfficeMapHalfRes: the same view at half resolution. BM_Ssim720 and BM_Loss720: SSIM
 // and the whole loss at 720x480, AVX-512 filters against AVX2, the team against one thread.
+// BM_SelectiveAdamStep: visible-only Adam on 300 k Gaussians that skipped 3 steps (their
+// moments decayed first) against the same step with nothing skipped.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -297,6 +299,34 @@ void BM_OfficeMapHalfRes(benchmark::State& state) {
 
 /// SSIM and its gradient (the loss's) on the office view at 720x480 against a shifted copy:
 /// range(0) the row filters in AVX-512 (2), AVX2 (1) or the plain loop (0).
+/// One selective Adam step on 300 k of a 1.2 M-Gaussian map, one thread: every fourth
+/// Gaussian. rotate = 1: the four such sets in turn, so each Gaussian has skipped 3 steps when
+/// its set comes again and its moments are decayed first; rotate = 0 (the baseline): the same
+/// set every step, nothing to decay, the same memory pattern.
+void BM_SelectiveAdamStep(benchmark::State& state) {
+  constexpr std::size_t kSets = 4, kSeen = 300'000;
+  const bool rotate = state.range(0) != 0;
+  vigs::mapping::GaussianMap map;
+  map.resize(kSeen * kSets);
+  std::vector<std::vector<int>> ids(kSets);
+  for (std::size_t i = 0; i < map.size(); ++i) ids[i % kSets].push_back(static_cast<int>(i));
+  vigs::mapping::Adam adam;
+  const auto one_range = [](std::size_t n, auto&& f) { f(std::size_t{0}, n); };
+  const auto grad_of = [](std::size_t k, float* g) {
+    for (std::size_t j = 0; j < 14; ++j) g[j] = 1e-3f * static_cast<float>((k + j) % 7) - 3e-3f;
+  };
+  for (std::size_t s = 0; s < 2 * kSets; ++s)  // every Gaussian has moments
+    adam.step_selected(map, ids[s % kSets], grad_of, one_range);
+  std::size_t step = 0;
+  for (auto _ : state) {
+    adam.step_selected(map, ids[rotate ? step++ % kSets : 0], grad_of, one_range);
+    benchmark::DoNotOptimize(map.color_rgb.data());
+  }
+  state.counters["ns_per_gaussian"] = benchmark::Counter(
+      static_cast<double>(kSeen) * static_cast<double>(state.iterations()) * 1e-9,
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 void BM_Ssim720(benchmark::State& state) {
   const OfficeScene& s = office_scene();
   vigs::rt::WorkerTeam pool(2);
@@ -373,6 +403,13 @@ BENCHMARK(BM_OfficeMapHalfRes)
     ->ArgNames({"pass", "avx512"})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
+BENCHMARK(BM_SelectiveAdamStep)
+    ->ArgName("rotate")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
 BENCHMARK(BM_Ssim720)
