@@ -40,8 +40,9 @@ struct MappingSettings {
     v.field("lr_color", adam.lr_color, {"-", 0.0, 1.0, "Adam step size of RGB colour"});
     v.field("adam_visible_only", adam.visible_only,
             "Adam steps only the Gaussians the iteration's view sees (gsplat's selective Adam): "
-            "an iteration costs what the view sees, not the map; off: every Gaussian moves by its "
-            "momentum each iteration");
+            "an iteration costs what the view sees, not the map, and a Gaussian's moments are "
+            "decayed over the steps it skipped before its next step; off: every Gaussian moves "
+            "by its momentum each iteration");
     v.field("block_culling", block_culling,
             "skip whole blocks of 1024 Gaussians that a view cannot see before projecting, in "
             "every render and the see-through vote (the result is the same; off: every "
